@@ -1,0 +1,136 @@
+//! Which joints are the feet. Translation methods pin a foot to the floor, so
+//! they need to know the left and right foot joints; recordings name them in
+//! many ways, so we recognise the common spellings and let the user override.
+
+use crate::skeleton::Skeleton;
+
+/// Left or right.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Foot {
+    Left,
+    Right,
+}
+
+/// The joint indices of the two feet (the ankle-level joint, e.g. `LeftFoot`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Feet {
+    pub left: usize,
+    pub right: usize,
+}
+
+impl Feet {
+    pub fn joint(self, foot: Foot) -> usize {
+        match foot {
+            Foot::Left => self.left,
+            Foot::Right => self.right,
+        }
+    }
+}
+
+/// Lower-cased names with separators removed, so `Foot_L`, `foot.l`,
+/// `mixamorig:LeftFoot` and `LeftFoot` compare alike.
+fn normalise(name: &str) -> String {
+    let base = name.rsplit([':', '|']).next().unwrap_or(name);
+    base.chars()
+        .filter(|c| c.is_ascii_alphanumeric())
+        .map(|c| c.to_ascii_lowercase())
+        .collect()
+}
+
+/// Spellings of the foot joints, normalised, best first. Ankles come after
+/// feet: when both exist, the `Foot` joint is the one exporters place at the
+/// ankle and the `Ankle` one may be a helper bone.
+const FOOT_NAME_PAIRS: [(&str, &str); 6] = [
+    ("leftfoot", "rightfoot"),
+    ("footl", "footr"),
+    ("lfoot", "rfoot"),
+    ("leftankle", "rightankle"),
+    ("anklel", "ankler"),
+    ("lankle", "rankle"),
+];
+
+/// Finds the feet by name, or `None` when the skeleton has no recognisable pair.
+pub fn detect_feet(skeleton: &Skeleton) -> Option<Feet> {
+    let normalised: Vec<String> = skeleton.names.iter().map(|n| normalise(n)).collect();
+    let find = |wanted: &str| {
+        normalised
+            .iter()
+            .enumerate()
+            .find(|(j, n)| n.as_str() == wanted && !skeleton.is_end_site[*j])
+            .map(|(j, _)| j)
+    };
+    for (left_name, right_name) in FOOT_NAME_PAIRS {
+        if let (Some(left), Some(right)) = (find(left_name), find(right_name)) {
+            return Some(Feet { left, right });
+        }
+    }
+    None
+}
+
+/// The feet named by the user, or detected when `left`/`right` are `None`.
+pub fn resolve_feet(
+    skeleton: &Skeleton,
+    left: Option<&str>,
+    right: Option<&str>,
+) -> Result<Feet, String> {
+    let detected = detect_feet(skeleton);
+    let pick = |name: Option<&str>, side: &str, fallback: Option<usize>| match name {
+        Some(n) => skeleton
+            .joint(n)
+            .ok_or_else(|| format!("no joint named `{n}` for the {side} foot")),
+        None => fallback.ok_or_else(|| {
+            format!(
+                "cannot tell which joint is the {side} foot; name it with --{side}-foot (joints: {})",
+                skeleton.names.join(", ")
+            )
+        }),
+    };
+    Ok(Feet {
+        left: pick(left, "left", detected.map(|f| f.left))?,
+        right: pick(right, "right", detected.map(|f| f.right))?,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    fn skeleton_named(names: &[&str]) -> Skeleton {
+        let mut s = Skeleton::default();
+        for (i, n) in names.iter().enumerate() {
+            s.push_joint(n.to_string(), if i == 0 { None } else { Some(0) }, DVec3::ZERO, vec![], false);
+        }
+        s
+    }
+
+    #[test]
+    fn detects_common_spellings() {
+        for (l, r) in [
+            ("LeftFoot", "RightFoot"),
+            ("Foot_L", "Foot_R"),
+            ("l_foot", "r_foot"),
+            ("LeftAnkle", "RightAnkle"),
+            ("mixamorig:LeftFoot", "mixamorig:RightFoot"),
+            ("foot.l", "foot.r"),
+        ] {
+            let s = skeleton_named(&["Hips", l, r]);
+            assert_eq!(detect_feet(&s), Some(Feet { left: 1, right: 2 }), "{l} / {r}");
+        }
+    }
+
+    #[test]
+    fn prefers_foot_over_toe() {
+        let s = skeleton_named(&["Hips", "LeftToeBase", "RightToeBase", "LeftFoot", "RightFoot"]);
+        assert_eq!(detect_feet(&s), Some(Feet { left: 3, right: 4 }));
+    }
+
+    #[test]
+    fn override_and_missing() {
+        let s = skeleton_named(&["Hips", "A", "B"]);
+        assert!(detect_feet(&s).is_none());
+        assert_eq!(resolve_feet(&s, Some("A"), Some("B")), Ok(Feet { left: 1, right: 2 }));
+        assert!(resolve_feet(&s, None, None).unwrap_err().contains("--left-foot"));
+        assert!(resolve_feet(&s, Some("Z"), Some("B")).unwrap_err().contains("`Z`"));
+    }
+}

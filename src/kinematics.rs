@@ -1,0 +1,78 @@
+//! Forward kinematics: channel values to global joint positions, in f64.
+//!
+//! The BVH rules we follow (the same as Blender's and three.js's importers):
+//! - a joint's local transform is `translation * R(c1) * R(c2) * R(c3)` with the
+//!   rotation channels composed in the order the file lists them;
+//! - **position channels replace the OFFSET**, on the root and on any other
+//!   joint: an axis with a position channel takes the channel's value, an axis
+//!   without one keeps the OFFSET's value. (Optical exporters such as Bandai
+//!   Namco's give every joint 6 channels whose positions equal the bone
+//!   lengths; adding them to the OFFSET would double every bone.)
+
+use glam::{DMat3, DVec3};
+
+use crate::skeleton::{Channel, Motion, Poses, Skeleton};
+
+/// The rotation of one joint in one frame, from its rotation channels.
+pub fn local_rotation(channels: &[Channel], values: &[f64]) -> DMat3 {
+    let mut parent_from_joint = DMat3::IDENTITY;
+    for (&channel, &degrees) in channels.iter().zip(values) {
+        let angle = degrees.to_radians();
+        let r = match channel {
+            Channel::Xrotation => DMat3::from_rotation_x(angle),
+            Channel::Yrotation => DMat3::from_rotation_y(angle),
+            Channel::Zrotation => DMat3::from_rotation_z(angle),
+            _ => continue,
+        };
+        parent_from_joint *= r;
+    }
+    parent_from_joint
+}
+
+/// The translation of one joint from its parent: the OFFSET with any position
+/// channel replacing its axis.
+pub fn local_translation(offset_cm: DVec3, channels: &[Channel], values: &[f64]) -> DVec3 {
+    let mut t = offset_cm;
+    for (&channel, &value) in channels.iter().zip(values) {
+        if channel.is_position() {
+            t[channel.axis()] = value;
+        }
+    }
+    t
+}
+
+/// Global positions of every joint (end sites included) in every frame.
+pub fn forward_kinematics(skeleton: &Skeleton, motion: &Motion) -> Poses {
+    let joint_count = skeleton.joint_count();
+    let frame_count = motion.frame_count();
+    let mut positions_cm = Vec::with_capacity(joint_count * frame_count);
+    // Per-joint world rotations of the current frame, reused across frames.
+    let mut world_from_joint_rot = vec![DMat3::IDENTITY; joint_count];
+    for f in 0..frame_count {
+        let values = motion.frame(f);
+        let frame_start = positions_cm.len();
+        for j in 0..joint_count {
+            let channels = &skeleton.channels[j];
+            let first = skeleton.first_channel[j];
+            let joint_values = &values[first..first + channels.len()];
+            let translation = local_translation(skeleton.offsets_cm[j], channels, joint_values);
+            let rotation = local_rotation(channels, joint_values);
+            let (point_in_world, world_rot) = match skeleton.parents[j] {
+                None => (translation, rotation),
+                Some(p) => {
+                    let parent_rot = world_from_joint_rot[p];
+                    (
+                        positions_cm[frame_start + p] + parent_rot * translation,
+                        parent_rot * rotation,
+                    )
+                }
+            };
+            world_from_joint_rot[j] = world_rot;
+            positions_cm.push(point_in_world);
+        }
+    }
+    Poses {
+        joint_count,
+        positions_cm,
+    }
+}

@@ -1,0 +1,23 @@
+//! embusen: gives inertial motion-capture recordings their place on the floor.
+//!
+//! The core (this crate without the `web` module) is free of browser code so
+//! that the CLI, the tests and the wasm app share it:
+//! - [`bvh`] and [`table`] read and write recordings,
+//! - [`kinematics`] turns channels into global joint positions ([`skeleton::Poses`]),
+//! - [`signals`] smooths and differentiates per-frame signals,
+//! - [`paper`] is Hachaj & Ogiela's translation method,
+//! - [`recording`] ties a file to the method and writes the result back,
+//! - [`demo`] generates the built-in synthetic recording.
+
+pub mod bvh;
+pub mod demo;
+pub mod error;
+pub mod feet;
+pub mod kinematics;
+pub mod paper;
+pub mod recording;
+pub mod signals;
+pub mod skeleton;
+pub mod table;
+
+pub use error::Error;
