@@ -1,1 +1,592 @@
-//! (being written)
+//! The built-in demo recording: a synthetic biped stepping through a short
+//! kata, generated in code. It is the app's default recording and a
+//! ground truth for translation methods, so it is generated physically
+//! consistently:
+//! 1. footsteps are planned on the floor ([`kata`]),
+//! 2. feet follow them: a planted foot is held exactly still (it may only pivot
+//!    about its ankle), a swinging foot travels on a lifted arc ([`plan_frames`]),
+//! 3. the hips ride over the midpoint of the feet, as high as the legs allow
+//!    with bent knees, so lower in wide stances ([`hips_cm`]),
+//! 4. the legs are solved by analytic two-bone IK ([`leg_ik`]), so forward
+//!    kinematics of the channels puts every planted ankle back where it was
+//!    planted.
+//!
+//! Coordinates: Y up, the floor is y = 0, centimetres and degrees. The figure
+//! starts at the origin facing +Z, with its left on +X; a heading of θ turns it
+//! left by θ about +Y.
+
+use glam::{DMat3, DVec2, DVec3};
+
+use crate::bvh::Bvh;
+use crate::kinematics::forward_kinematics;
+use crate::recording::Recording;
+use crate::signals::STANDARD_GRAVITY_CM_PER_S2;
+use crate::skeleton::{Channel, Motion, Skeleton};
+use crate::table::Accelerations;
+
+/// The name the app shows for the demo recording.
+pub const DEMO_NAME: &str = "demo (synthetic kata)";
+/// Frames per second of the demo.
+pub const DEMO_FPS: f64 = 100.0;
+/// Height of the ankle (the foot joint) above the floor when the foot is flat:
+/// the toe end site sits this far below the ankle, so it touches the floor.
+pub const ANKLE_HEIGHT_CM: f64 = 5.07;
+
+/// The rotation channels of every joint, in the karate suit's order.
+const ROTATIONS: [Channel; 3] = [Channel::Zrotation, Channel::Yrotation, Channel::Xrotation];
+const LEFT: usize = 0;
+const RIGHT: usize = 1;
+/// Bone lengths and hip joint placement, from the karate suit's skeleton.
+const THIGH_CM: f64 = 42.86;
+const SHIN_CM: f64 = 39.83;
+const HIP_HALF_WIDTH_CM: f64 = 8.51;
+const HIP_DROP_CM: f64 = 5.99;
+/// The hips stay low enough that each hip-to-ankle distance is at most this
+/// fraction of the straight leg: the knees are always bent (a karate posture)
+/// and the IK never has to reach further than the leg.
+const REACH_FRACTION: f64 = 0.94;
+/// A swing lasts `SWING_BASE_S + distance / SWING_CM_PER_S`.
+const SWING_BASE_S: f64 = 0.45;
+const SWING_CM_PER_S: f64 = 300.0;
+/// How high a swinging ankle rises above its flat height, mid-swing.
+const LIFT_CM: f64 = 10.0;
+/// How long a transition lasts when no foot steps (a pure pivot).
+const PIVOT_S: f64 = 0.5;
+/// Half-width of the uniform accelerometer noise, per axis.
+const NOISE_G: f64 = 0.01;
+
+/// The demo recording and the ground truth it was generated from.
+///
+/// 100 Hz, 2406 frames (24.06 s). Every per-frame vector has one entry per
+/// frame; `[left, right]` pairs are indexed 0 = left foot, 1 = right foot.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Demo {
+    pub skeleton: Skeleton,
+    /// Channel values, including the true root translation.
+    pub motion: Motion,
+    /// The Hips position channels of each frame, in cm.
+    pub true_root_cm: Vec<DVec3>,
+    /// Simulated accelerometers at the foot joints, in g and world axes: the
+    /// second derivative of the global foot position (central difference, in
+    /// cm/s²) plus gravity's reaction along +Y, divided by
+    /// [`STANDARD_GRAVITY_CM_PER_S2`], plus deterministic uniform noise of ±0.01 g per axis.
+    /// A foot at rest reads (0, 1, 0).
+    pub foot_accel_g: [Vec<DVec3>; 2],
+    /// Whether each foot is planted (held still on the floor) in each frame.
+    pub stance: Vec<[bool; 2]>,
+}
+
+impl Demo {
+    /// The demo as the tool opens it: the true translation stripped (what an
+    /// inertial suit without a translation guess would give), the simulated
+    /// foot accelerometers attached as sensors named like the foot joints.
+    pub fn recording(&self) -> Recording {
+        let bvh = Bvh {
+            skeleton: self.skeleton.clone(),
+            motion: self.without_translation(),
+            warnings: Vec::new(),
+        };
+        let mut recording = Recording::from_bvh(bvh, DEMO_NAME);
+        recording.accel = Some(Accelerations {
+            file: DEMO_NAME.to_string(),
+            sensor_names: vec!["LeftFoot".to_string(), "RightFoot".to_string()],
+            accel_g: self.foot_accel_g.to_vec(),
+        });
+        recording
+    }
+
+    /// The same motion with the Hips position channels of every frame set to
+    /// frame 0's values (all three axes): what a translation method gets as
+    /// input when it is tested against [`Demo::true_root_cm`].
+    pub fn without_translation(&self) -> Motion {
+        let mut motion = self.motion.clone();
+        if motion.frame_count() == 0 {
+            return motion;
+        }
+        let start = motion.frame(0).to_vec();
+        let first = self.skeleton.first_channel[0];
+        for (i, channel) in self.skeleton.channels[0].iter().enumerate() {
+            if channel.is_position() {
+                for values in motion.values.chunks_mut(motion.channel_count) {
+                    values[first + i] = start[first + i];
+                }
+            }
+        }
+        motion
+    }
+}
+
+/// Generates the demo recording. Deterministic: every call returns the same.
+pub fn demo() -> Demo {
+    let rig = build_rig();
+    let frames = plan_frames(&kata());
+    let channel_count = rig.skeleton.channel_count();
+    let mut motion = Motion {
+        channel_count,
+        frame_time_s: 1.0 / DEMO_FPS,
+        values: vec![0.0; channel_count * frames.len()],
+    };
+    let mut true_root_cm = Vec::with_capacity(frames.len());
+    for (f, targets) in frames.iter().enumerate() {
+        true_root_cm.push(pose_frame(&rig, targets, motion.frame_mut(f)));
+    }
+    // The accelerometers measure the generated motion itself, not the plan.
+    let poses = forward_kinematics(&rig.skeleton, &motion);
+    let mut rng = XorShift64(0x9E37_79B9_7F4A_7C15);
+    let foot_accel_g = rig
+        .legs
+        .map(|[_, _, foot]| accelerometer_g(&poses.trajectory(foot), &mut rng));
+    Demo {
+        skeleton: rig.skeleton,
+        motion,
+        true_root_cm,
+        foot_accel_g,
+        stance: frames.iter().map(|t| t.planted).collect(),
+    }
+}
+
+/// The skeleton and the joints the generator drives.
+struct Rig {
+    skeleton: Skeleton,
+    /// `[thigh, leg, foot]` per side.
+    legs: [[usize; 3]; 2],
+    /// `[arm, forearm]` per side.
+    arms: [[usize; 2]; 2],
+}
+
+/// The karate suit's hierarchy and bone lengths, turned Y-up and facing +Z,
+/// with the arms in T-pose and an end site at each toe, hand and the head.
+fn build_rig() -> Rig {
+    let mut skeleton = Skeleton::default();
+    let mut root_channels = vec![Channel::Xposition, Channel::Yposition, Channel::Zposition];
+    root_channels.extend(ROTATIONS);
+    let hips = skeleton.push_joint("Hips".into(), None, DVec3::ZERO, root_channels, false);
+    let s = &mut skeleton;
+    let leg_bones = [
+        ("Thigh", [HIP_HALF_WIDTH_CM, -HIP_DROP_CM, 0.0]),
+        ("Leg", [0.0, -THIGH_CM, 0.0]),
+        ("Foot", [0.0, -SHIN_CM, 0.0]),
+    ];
+    // The toe lies on the floor when the foot is flat.
+    let toe = [0.0, -ANKLE_HEIGHT_CM, 13.49];
+    let [left_leg, right_leg] = [("Left", 1.0), ("Right", -1.0)]
+        .map(|(side, sign)| chain(s, hips, side, sign, &leg_bones, toe));
+    let spine_bones = [
+        ("SpineLow", [0.0, 4.78, 0.0]),
+        ("SpineMid", [0.0, 13.05, 0.0]),
+        ("Chest", [0.0, 13.05, 0.0]),
+        ("Neck", [0.0, 15.28, 0.0]),
+        ("Head", [0.0, 11.46, 0.0]),
+    ];
+    let chest = chain(s, hips, "", 1.0, &spine_bones, [0.0, 14.33, 0.0])[2];
+    let arm_bones = [
+        ("Shoulder", [7.64, 9.55, -1.43]),
+        ("Arm", [9.26, 4.30, 0.0]),
+        ("Forearm", [26.08, 0.0, 0.0]),
+        ("Hand", [25.50, 0.0, 0.0]),
+    ];
+    let [left_arm, right_arm] = [("Left", 1.0), ("Right", -1.0)]
+        .map(|(side, sign)| chain(s, chest, side, sign, &arm_bones, [9.0, 0.0, 0.0]));
+    Rig {
+        skeleton,
+        legs: [left_leg, right_leg].map(|j| [j[0], j[1], j[2]]),
+        arms: [left_arm, right_arm].map(|j| [j[1], j[2]]),
+    }
+}
+
+/// Appends `bones` (name suffix, left-side offset in cm) as a chain under
+/// `parent`, each with `Zrotation Yrotation Xrotation` channels and named
+/// `{side}{name}`, then an end site at `end_cm` under the last. `sign` -1
+/// mirrors the offsets to the right side. Returns the bones' indices.
+fn chain(
+    s: &mut Skeleton,
+    parent: usize,
+    side: &str,
+    sign: f64,
+    bones: &[(&str, [f64; 3])],
+    end_cm: [f64; 3],
+) -> Vec<usize> {
+    let mirrored = |[x, y, z]: [f64; 3]| DVec3::new(sign * x, y, z);
+    let mut joints = Vec::with_capacity(bones.len());
+    let mut last = parent;
+    for &(name, offset_cm) in bones {
+        let (name, offset_cm) = (format!("{side}{name}"), mirrored(offset_cm));
+        last = s.push_joint(name, Some(last), offset_cm, ROTATIONS.to_vec(), false);
+        joints.push(last);
+    }
+    let end_name = format!("EndSite{}", s.joint_count());
+    s.push_joint(end_name, Some(last), mirrored(end_cm), vec![], true);
+    joints
+}
+
+/// A karate stance: where the feet stand relative to the stance's centre.
+#[derive(Clone, Copy, Debug)]
+enum Stance {
+    /// Shizentai: feet side by side.
+    Natural,
+    /// Zenkutsu-dachi with the left foot in front.
+    FrontLeft,
+    /// Zenkutsu-dachi with the right foot in front.
+    FrontRight,
+    /// Kiba-dachi: feet wide apart sideways.
+    Horse,
+}
+
+impl Stance {
+    /// `[left, right]` foot offsets as (to the figure's left, forward), in cm.
+    fn feet_cm(self) -> [DVec2; 2] {
+        let (width, length, horse) = (12.0, 40.0, 40.0);
+        match self {
+            Stance::Natural => [DVec2::new(width, 0.0), DVec2::new(-width, 0.0)],
+            Stance::FrontLeft => [DVec2::new(width, length), DVec2::new(-width, -length)],
+            Stance::FrontRight => [DVec2::new(width, -length), DVec2::new(-width, length)],
+            Stance::Horse => [DVec2::new(horse, 0.0), DVec2::new(-horse, 0.0)],
+        }
+    }
+}
+
+/// One posture of the kata, held for `hold_s` once reached.
+#[derive(Clone, Copy, Debug)]
+struct Key {
+    stance: Stance,
+    /// The midpoint of the feet on the floor, as (x, z).
+    center_cm: DVec2,
+    /// Unwrapped (a full left turn ends at 360), so interpolation turns the
+    /// intended way.
+    heading_deg: f64,
+    /// How far each arm is punched out, 0 (fist at the hip) to 1 (extended).
+    punch: [f64; 2],
+    hold_s: f64,
+    /// The foot that steps first when both feet move to reach this key.
+    lead: usize,
+}
+
+impl Key {
+    /// `[left, right]` ankle positions on the floor, as (x, z).
+    fn feet_cm(&self) -> [DVec2; 2] {
+        let yaw = self.heading_deg.to_radians();
+        let (left, forward) = (
+            DVec2::new(yaw.cos(), -yaw.sin()),
+            DVec2::new(yaw.sin(), yaw.cos()),
+        );
+        self.stance
+            .feet_cm()
+            .map(|o| self.center_cm + o.x * left + o.y * forward)
+    }
+}
+
+/// The footstep plan, an embusen that ends where it starts: three steps
+/// forward in front stance, a 180° turn, two steps forward, two steps back, a
+/// 90° turn into horse stance, sidesteps, and a turning step back into the
+/// start position. Each key moves one foot unless noted; the other foot stays
+/// exactly where it is (the centres are chosen so).
+fn kata() -> Vec<Key> {
+    use Stance::*;
+    let key = |stance, x, z, heading_deg, punch, hold_s| Key {
+        stance,
+        center_cm: DVec2::new(x, z),
+        heading_deg,
+        punch,
+        hold_s,
+        lead: LEFT,
+    };
+    let (none, left, right) = ([0.0, 0.0], [1.0, 0.0], [0.0, 1.0]);
+    vec![
+        key(Natural, 0.0, 0.0, 0.0, none, 2.0),
+        key(FrontLeft, 0.0, 40.0, 0.0, left, 0.6),
+        key(FrontRight, 0.0, 120.0, 0.0, right, 0.6),
+        key(FrontLeft, 0.0, 200.0, 0.0, left, 0.8),
+        // The right foot swings round behind while the left pivots in place.
+        key(FrontRight, 24.0, 200.0, 180.0, right, 0.6),
+        key(FrontLeft, 24.0, 120.0, 180.0, left, 0.6),
+        key(FrontRight, 24.0, 40.0, 180.0, right, 0.8),
+        // Steps back: the front foot retreats behind the other.
+        key(FrontLeft, 24.0, 120.0, 180.0, left, 0.6),
+        key(FrontRight, 24.0, 200.0, 180.0, right, 0.8),
+        // Facing -X, so sidesteps to the right lead back towards the start.
+        key(Horse, 12.0, 200.0, 270.0, none, 0.6),
+        key(Natural, 12.0, 172.0, 270.0, none, 0.3),
+        key(Horse, 12.0, 144.0, 270.0, right, 0.6),
+        key(Natural, 12.0, 116.0, 270.0, none, 0.3),
+        key(Horse, 12.0, 88.0, 270.0, left, 0.8),
+        key(Natural, 12.0, 60.0, 270.0, none, 0.3),
+        // Both feet move: the right first, so the left's long step back does
+        // not cross it.
+        Key {
+            lead: RIGHT,
+            ..key(Natural, 0.0, 0.0, 360.0, none, 1.5)
+        },
+    ]
+}
+
+/// What the feet, hips heading and arms should do in one frame.
+#[derive(Clone, Copy, Debug)]
+struct Targets {
+    ankle_cm: [DVec3; 2],
+    foot_yaw_deg: [f64; 2],
+    planted: [bool; 2],
+    heading_deg: f64,
+    punch: [f64; 2],
+}
+
+/// Samples the plan at [`DEMO_FPS`]: each key is held, then the feet that
+/// differ from the next key step one after the other (`lead` first).
+fn plan_frames(keys: &[Key]) -> Vec<Targets> {
+    let mut frames = Vec::new();
+    for (i, key) in keys.iter().enumerate() {
+        let held = Targets {
+            ankle_cm: key.feet_cm().map(flat),
+            foot_yaw_deg: [key.heading_deg; 2],
+            planted: [true; 2],
+            heading_deg: key.heading_deg,
+            punch: key.punch,
+        };
+        frames.extend(std::iter::repeat_n(held, frame_count(key.hold_s)));
+        if let Some(next) = keys.get(i + 1) {
+            transition(key, next, &mut frames);
+        }
+    }
+    frames
+}
+
+/// The ankle of a flat foot standing at floor point (x, z).
+fn flat(floor_cm: DVec2) -> DVec3 {
+    DVec3::new(floor_cm.x, ANKLE_HEIGHT_CM, floor_cm.y)
+}
+
+fn frame_count(duration_s: f64) -> usize {
+    (duration_s * DEMO_FPS).round() as usize
+}
+
+/// Appends the frames that take the figure from key `a` to key `b`.
+fn transition(a: &Key, b: &Key, frames: &mut Vec<Targets>) {
+    let (from, to) = (a.feet_cm(), b.feet_cm());
+    // Each moving foot gets its own swing window, in frames from the start.
+    let mut swings: [Option<(usize, usize)>; 2] = [None; 2];
+    let mut end = 0;
+    for foot in [b.lead, 1 - b.lead] {
+        let distance_cm = from[foot].distance(to[foot]);
+        // Keys are built so that a staying foot's position is recomputed to
+        // within rounding; anything more is a real step.
+        if distance_cm > 1e-6 {
+            let start = end;
+            end += frame_count(SWING_BASE_S + distance_cm / SWING_CM_PER_S);
+            swings[foot] = Some((start, end));
+        }
+    }
+    let total = if end == 0 { frame_count(PIVOT_S) } else { end };
+    for k in 0..total {
+        let s = min_jerk(k as f64 / total as f64);
+        // Punches land late in the step, as the stance settles.
+        let punch_s = min_jerk((k as f64 / total as f64 - 0.3) / 0.7);
+        let mut t = Targets {
+            ankle_cm: [DVec3::ZERO; 2],
+            foot_yaw_deg: [0.0; 2],
+            planted: [true; 2],
+            heading_deg: lerp(a.heading_deg, b.heading_deg, s),
+            punch: [0, 1].map(|i| lerp(a.punch[i], b.punch[i], punch_s)),
+        };
+        for foot in [LEFT, RIGHT] {
+            let (yaw0, yaw1) = (a.heading_deg, b.heading_deg);
+            (t.ankle_cm[foot], t.foot_yaw_deg[foot], t.planted[foot]) = match swings[foot] {
+                Some((start, stop)) if k > start && k < stop => {
+                    let u = (k - start) as f64 / (stop - start) as f64;
+                    let m = min_jerk(u);
+                    // 64 (u (1 - u))³ rises to 1 mid-swing and, like the
+                    // min-jerk ease, has no acceleration at either end.
+                    let lift = DVec3::Y * LIFT_CM * 64.0 * (u * (1.0 - u)).powi(3);
+                    let ankle_cm = flat(from[foot].lerp(to[foot], m)) + lift;
+                    (ankle_cm, lerp(yaw0, yaw1, m), false)
+                }
+                Some((_, stop)) if k >= stop => (flat(to[foot]), yaw1, true),
+                Some(_) => (flat(from[foot]), yaw0, true),
+                // A foot that does not step pivots about its ankle with the body.
+                None => (flat(from[foot]), lerp(yaw0, yaw1, s), true),
+            };
+        }
+        frames.push(t);
+    }
+}
+
+/// Minimum-jerk ease from 0 to 1 (`u` clamped to [0, 1]): zero velocity and
+/// acceleration at both ends, so feet leave and reach the floor smoothly.
+fn min_jerk(u: f64) -> f64 {
+    let u = u.clamp(0.0, 1.0);
+    u * u * u * (10.0 - 15.0 * u + 6.0 * u * u)
+}
+
+fn lerp(a: f64, b: f64, s: f64) -> f64 {
+    a + (b - a) * s
+}
+
+fn yaw(degrees: f64) -> DMat3 {
+    DMat3::from_rotation_y(degrees.to_radians())
+}
+
+/// The hips position: horizontally the midpoint of the ankles; vertically the
+/// highest point from which both hip joints are within `REACH_FRACTION` of a
+/// straight leg from their ankles.
+fn hips_cm(t: &Targets) -> DVec3 {
+    let mid = (t.ankle_cm[LEFT] + t.ankle_cm[RIGHT]) / 2.0;
+    let reach_cm = REACH_FRACTION * (THIGH_CM + SHIN_CM);
+    let height_cm = [LEFT, RIGHT]
+        .map(|foot| {
+            let hip = mid + yaw(t.heading_deg) * hip_offset_cm(foot);
+            let horizontal_cm = (hip - t.ankle_cm[foot])
+                .with_y(0.0)
+                .length()
+                .min(0.99 * reach_cm);
+            t.ankle_cm[foot].y
+                + HIP_DROP_CM
+                + (reach_cm * reach_cm - horizontal_cm * horizontal_cm).sqrt()
+        })
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
+    mid.with_y(height_cm)
+}
+
+/// The thigh joint's offset from the hips (the skeleton's OFFSET).
+fn hip_offset_cm(foot: usize) -> DVec3 {
+    let sign = if foot == LEFT { 1.0 } else { -1.0 };
+    DVec3::new(sign * HIP_HALF_WIDTH_CM, -HIP_DROP_CM, 0.0)
+}
+
+/// Two-bone IK: the world rotations of thigh and shin that put the ankle at
+/// `ankle_cm` from a hip joint at `hip_cm`, with the knee bending towards
+/// `forward` (the foot's facing). Exact when the ankle is within reach.
+fn leg_ik(hip_cm: DVec3, ankle_cm: DVec3, forward: DVec3) -> [DMat3; 2] {
+    let to_ankle = ankle_cm - hip_cm;
+    let distance_cm = to_ankle.length().min(THIGH_CM + SHIN_CM);
+    let along = to_ankle / to_ankle.length();
+    let toward_knee = (forward - forward.dot(along) * along).normalize();
+    // Law of cosines for the angle at the hip between thigh and hip–ankle line.
+    let cos_hip = ((THIGH_CM * THIGH_CM + distance_cm * distance_cm - SHIN_CM * SHIN_CM)
+        / (2.0 * THIGH_CM * distance_cm))
+        .clamp(-1.0, 1.0);
+    let sin_hip = (1.0 - cos_hip * cos_hip).sqrt();
+    let knee_cm = hip_cm + THIGH_CM * (cos_hip * along + sin_hip * toward_knee);
+    [
+        bone_frame(knee_cm - hip_cm, toward_knee),
+        bone_frame(ankle_cm - knee_cm, toward_knee),
+    ]
+}
+
+/// The rotation taking a rest bone (along -Y, front +Z) to point along `bone`
+/// with its front towards `front` (made perpendicular to the bone). Both leg
+/// bones share the knee's hinge axis as their X axis.
+fn bone_frame(bone: DVec3, front: DVec3) -> DMat3 {
+    let y = -bone.normalize();
+    let z = (front - front.dot(y) * y).normalize();
+    DMat3::from_cols(y.cross(z), y, z)
+}
+
+/// The `[z, y, x]` angles in degrees with `m = Rz(z) * Ry(y) * Rx(x)`: our
+/// channel order. Valid away from y = ±90°, which the demo never reaches.
+fn zyx_degrees(m: DMat3) -> [f64; 3] {
+    let y = (-m.x_axis.z).clamp(-1.0, 1.0).asin();
+    let z = m.x_axis.y.atan2(m.x_axis.x);
+    let x = m.y_axis.z.atan2(m.z_axis.z);
+    [z.to_degrees(), y.to_degrees(), x.to_degrees()]
+}
+
+/// Left arm `[upper arm, forearm]` channel angles for a punch amount: from
+/// the fist chambered at the waist (arm down, elbow bent forward) to the arm
+/// straight out in front at shoulder height.
+fn left_arm_zyx_degrees(punch: f64) -> [[f64; 3]; 2] {
+    [
+        [lerp(-75.0, 0.0, punch), lerp(-15.0, -90.0, punch), 0.0],
+        [0.0, lerp(-80.0, 0.0, punch), 0.0],
+    ]
+}
+
+/// Writes one frame's channel values and returns the hips position.
+fn pose_frame(rig: &Rig, t: &Targets, values: &mut [f64]) -> DVec3 {
+    let sk = &rig.skeleton;
+    let mut set = |joint: usize, zyx: [f64; 3]| {
+        let first = sk.first_channel[joint];
+        values[first..first + 3].copy_from_slice(&zyx);
+    };
+    let hips = hips_cm(t);
+    let pelvis = yaw(t.heading_deg);
+    for foot in [LEFT, RIGHT] {
+        let [thigh, leg, ankle] = rig.legs[foot];
+        let foot_world = yaw(t.foot_yaw_deg[foot]);
+        let hip = hips + pelvis * hip_offset_cm(foot);
+        let [thigh_world, shin_world] = leg_ik(hip, t.ankle_cm[foot], foot_world * DVec3::Z);
+        set(thigh, zyx_degrees(pelvis.transpose() * thigh_world));
+        set(leg, zyx_degrees(thigh_world.transpose() * shin_world));
+        // Feet stay flat (only yawed), so the toe rests on the floor.
+        set(ankle, zyx_degrees(shin_world.transpose() * foot_world));
+        let [arm, forearm] = rig.arms[foot];
+        let [upper_zyx, fore_zyx] = left_arm_zyx_degrees(t.punch[foot]);
+        // The right arm mirrors the left across the X = 0 plane, which
+        // negates rotations about Z and Y.
+        let mirror = |[z, y, x]: [f64; 3]| if foot == LEFT { [z, y, x] } else { [-z, -y, x] };
+        set(arm, mirror(upper_zyx));
+        set(forearm, mirror(fore_zyx));
+    }
+    let root = sk.first_channel[0];
+    values[root..root + 6].copy_from_slice(&[hips.x, hips.y, hips.z, 0.0, t.heading_deg, 0.0]);
+    hips
+}
+
+/// Accelerometer readings in g for a trajectory sampled at [`DEMO_FPS`]: the
+/// central second difference (end frames repeat their neighbour, the figure
+/// stands still there), plus gravity's reaction, plus noise.
+fn accelerometer_g(positions_cm: &[DVec3], rng: &mut XorShift64) -> Vec<DVec3> {
+    let n = positions_cm.len();
+    (0..n)
+        .map(|f| {
+            let (prev, next) = (
+                positions_cm[f.saturating_sub(1)],
+                positions_cm[(f + 1).min(n - 1)],
+            );
+            let accel_cm_s2 = (prev - 2.0 * positions_cm[f] + next) * (DEMO_FPS * DEMO_FPS);
+            let noise = DVec3::new(rng.symmetric(), rng.symmetric(), rng.symmetric()) * NOISE_G;
+            (accel_cm_s2 + DVec3::Y * STANDARD_GRAVITY_CM_PER_S2) / STANDARD_GRAVITY_CM_PER_S2
+                + noise
+        })
+        .collect()
+}
+
+/// Marsaglia's xorshift64: deterministic noise without a dependency.
+struct XorShift64(u64);
+
+impl XorShift64 {
+    /// Uniform in [-1, 1).
+    fn symmetric(&mut self) -> f64 {
+        let mut x = self.0;
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        self.0 = x;
+        (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kinematics::local_rotation;
+
+    #[test]
+    fn zyx_degrees_round_trips_through_the_channels() {
+        let channels = [Channel::Zrotation, Channel::Yrotation, Channel::Xrotation];
+        let angles = [130.0, -40.0, 75.0];
+        let back = zyx_degrees(local_rotation(&channels, &angles));
+        for (a, b) in angles.iter().zip(back) {
+            assert!((a - b).abs() < 1e-9, "{angles:?} came back as {back:?}");
+        }
+    }
+
+    #[test]
+    fn each_key_but_the_last_moves_one_foot() {
+        let keys = kata();
+        for (i, pair) in keys.windows(2).enumerate() {
+            let (a, b) = (pair[0].feet_cm(), pair[1].feet_cm());
+            let moved = (0..2).filter(|&f| a[f].distance(b[f]) > 1e-6).count();
+            let expected = if i + 2 == keys.len() { 2 } else { 1 };
+            assert_eq!(moved, expected, "key {} -> {}", i, i + 1);
+        }
+    }
+}

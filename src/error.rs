@@ -38,7 +38,9 @@ impl Error {
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.line_column {
-            Some((line, column)) => write!(f, "{}:{}:{}: {}", self.file, line, column, self.message),
+            Some((line, column)) => {
+                write!(f, "{}:{}:{}: {}", self.file, line, column, self.message)
+            }
             None => write!(f, "{}: {}", self.file, self.message),
         }
     }
@@ -53,6 +55,9 @@ pub fn line_column_of(text: &[u8], offset: usize) -> (usize, usize) {
     let offset = offset.min(text.len());
     let before = &text[..offset];
     let line = 1 + before.iter().filter(|&&b| b == b'\n').count();
-    let line_start = before.iter().rposition(|&b| b == b'\n').map_or(0, |p| p + 1);
+    let line_start = before
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |p| p + 1);
     (line, offset - line_start + 1)
 }

@@ -2,8 +2,6 @@
 //! they need to know the left and right foot joints; recordings name them in
 //! many ways, so we recognise the common spellings and let the user override.
 
-use crate::skeleton::Skeleton;
-
 /// Left or right.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Foot {
@@ -49,16 +47,11 @@ const FOOT_NAME_PAIRS: [(&str, &str); 6] = [
     ("lankle", "rankle"),
 ];
 
-/// Finds the feet by name, or `None` when the skeleton has no recognisable pair.
-pub fn detect_feet(skeleton: &Skeleton) -> Option<Feet> {
-    let normalised: Vec<String> = skeleton.names.iter().map(|n| normalise(n)).collect();
-    let find = |wanted: &str| {
-        normalised
-            .iter()
-            .enumerate()
-            .find(|(j, n)| n.as_str() == wanted && !skeleton.is_end_site[*j])
-            .map(|(j, _)| j)
-    };
+/// Finds the feet among the joint names, or `None` when there is no
+/// recognisable pair.
+pub fn detect_feet(joint_names: &[String]) -> Option<Feet> {
+    let normalised: Vec<String> = joint_names.iter().map(|n| normalise(n)).collect();
+    let find = |wanted: &str| normalised.iter().position(|n| n == wanted);
     for (left_name, right_name) in FOOT_NAME_PAIRS {
         if let (Some(left), Some(right)) = (find(left_name), find(right_name)) {
             return Some(Feet { left, right });
@@ -69,21 +62,24 @@ pub fn detect_feet(skeleton: &Skeleton) -> Option<Feet> {
 
 /// The feet named by the user, or detected when `left`/`right` are `None`.
 pub fn resolve_feet(
-    skeleton: &Skeleton,
+    joint_names: &[String],
     left: Option<&str>,
     right: Option<&str>,
 ) -> Result<Feet, String> {
-    let detected = detect_feet(skeleton);
-    let pick = |name: Option<&str>, side: &str, fallback: Option<usize>| match name {
-        Some(n) => skeleton
-            .joint(n)
+    let detected = detect_feet(joint_names);
+    let pick = |name: Option<&str>, side: &str, fallback: Option<usize>| {
+        match name {
+        Some(n) => joint_names
+            .iter()
+            .position(|j| j == n)
             .ok_or_else(|| format!("no joint named `{n}` for the {side} foot")),
         None => fallback.ok_or_else(|| {
             format!(
                 "cannot tell which joint is the {side} foot; name it with --{side}-foot (joints: {})",
-                skeleton.names.join(", ")
+                joint_names.join(", ")
             )
         }),
+    }
     };
     Ok(Feet {
         left: pick(left, "left", detected.map(|f| f.left))?,
@@ -94,14 +90,9 @@ pub fn resolve_feet(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::DVec3;
 
-    fn skeleton_named(names: &[&str]) -> Skeleton {
-        let mut s = Skeleton::default();
-        for (i, n) in names.iter().enumerate() {
-            s.push_joint(n.to_string(), if i == 0 { None } else { Some(0) }, DVec3::ZERO, vec![], false);
-        }
-        s
+    fn skeleton_named(names: &[&str]) -> Vec<String> {
+        names.iter().map(|n| n.to_string()).collect()
     }
 
     #[test]
@@ -115,13 +106,23 @@ mod tests {
             ("foot.l", "foot.r"),
         ] {
             let s = skeleton_named(&["Hips", l, r]);
-            assert_eq!(detect_feet(&s), Some(Feet { left: 1, right: 2 }), "{l} / {r}");
+            assert_eq!(
+                detect_feet(&s),
+                Some(Feet { left: 1, right: 2 }),
+                "{l} / {r}"
+            );
         }
     }
 
     #[test]
     fn prefers_foot_over_toe() {
-        let s = skeleton_named(&["Hips", "LeftToeBase", "RightToeBase", "LeftFoot", "RightFoot"]);
+        let s = skeleton_named(&[
+            "Hips",
+            "LeftToeBase",
+            "RightToeBase",
+            "LeftFoot",
+            "RightFoot",
+        ]);
         assert_eq!(detect_feet(&s), Some(Feet { left: 3, right: 4 }));
     }
 
@@ -129,8 +130,19 @@ mod tests {
     fn override_and_missing() {
         let s = skeleton_named(&["Hips", "A", "B"]);
         assert!(detect_feet(&s).is_none());
-        assert_eq!(resolve_feet(&s, Some("A"), Some("B")), Ok(Feet { left: 1, right: 2 }));
-        assert!(resolve_feet(&s, None, None).unwrap_err().contains("--left-foot"));
-        assert!(resolve_feet(&s, Some("Z"), Some("B")).unwrap_err().contains("`Z`"));
+        assert_eq!(
+            resolve_feet(&s, Some("A"), Some("B")),
+            Ok(Feet { left: 1, right: 2 })
+        );
+        assert!(
+            resolve_feet(&s, None, None)
+                .unwrap_err()
+                .contains("--left-foot")
+        );
+        assert!(
+            resolve_feet(&s, Some("Z"), Some("B"))
+                .unwrap_err()
+                .contains("`Z`")
+        );
     }
 }

@@ -1,1 +1,261 @@
-//! (being written)
+//! A recording as the tool sees it: whatever file it came from (BVH, BVH plus
+//! accelerometer side file, or an RMoCap table), its global joint positions,
+//! its rate, and its foot accelerations. The CLI, the tests and the wasm app
+//! all go through this one type, so they all compute the same thing.
+
+use glam::DVec3;
+
+use crate::bvh::{Bvh, ReadOptions};
+use crate::error::Error;
+use crate::feet::{Feet, Foot, resolve_feet};
+use crate::kinematics::forward_kinematics;
+use crate::paper::{PaperParams, PaperResult, paper_translation};
+use crate::signals::{kinematic_accel_magnitude_g, magnitudes};
+use crate::skeleton::Poses;
+use crate::table::{Accelerations, Table};
+
+/// Where a recording came from, kept so the result is written in the same form.
+#[derive(Clone, Debug)]
+pub enum Source {
+    Bvh(Bvh),
+    Table(Table),
+}
+
+/// A loaded recording.
+#[derive(Clone, Debug)]
+pub struct Recording {
+    /// The file name shown to the user.
+    pub name: String,
+    pub source: Source,
+    /// Joint names, in the order of `poses`.
+    pub joint_names: Vec<String>,
+    /// Parent of each joint, for drawing bones (`None` for a table, which
+    /// stores no hierarchy, and for roots).
+    pub parents: Vec<Option<usize>>,
+    /// Global joint positions, as recorded.
+    pub poses: Poses,
+    pub fps: f64,
+    /// Accelerometer readings, from the table itself or a side file.
+    pub accel: Option<Accelerations>,
+    pub warnings: Vec<String>,
+}
+
+/// Where the foot accelerations that drive the paper method came from.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum AccelSource {
+    /// The suit's accelerometers on these two sensors.
+    Accelerometer { left: String, right: String },
+    /// Second derivative of the foot positions (root translation removed) plus
+    /// gravity: used when there is no accelerometer data.
+    Kinematic,
+}
+
+impl std::fmt::Display for AccelSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            AccelSource::Accelerometer { left, right } => {
+                write!(f, "accelerometers {left}/{right}")
+            }
+            AccelSource::Kinematic => write!(f, "kinematics (no accelerometer data)"),
+        }
+    }
+}
+
+/// Which joints are the feet: detected from their names unless given.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct FeetChoice {
+    pub left: Option<String>,
+    pub right: Option<String>,
+}
+
+/// The outcome of a translation method on a recording.
+#[derive(Clone, Debug)]
+pub struct Translated {
+    /// Added to every joint of frame `f` (cm).
+    pub shift_cm: Vec<DVec3>,
+    /// The corrected global positions.
+    pub poses: Poses,
+    pub feet: Feet,
+    pub accel_source: AccelSource,
+    /// What the method decided, frame by frame, for plots.
+    pub paper: PaperResult,
+}
+
+/// True when the bytes look like a BVH file rather than a CSV table.
+pub fn looks_like_bvh(bytes: &[u8]) -> bool {
+    let start = bytes
+        .iter()
+        .position(|b| !b.is_ascii_whitespace())
+        .unwrap_or(bytes.len());
+    bytes[start..].len() >= 9 && bytes[start..start + 9].eq_ignore_ascii_case(b"HIERARCHY")
+}
+
+impl Recording {
+    /// Reads a BVH or an RMoCap table from its bytes (the format is told by the
+    /// content, not the name). `fps` is used when the file does not say.
+    pub fn parse(bytes: &[u8], name: &str, fps: Option<f64>) -> Result<Recording, Error> {
+        if looks_like_bvh(bytes) {
+            let bvh = Bvh::parse(bytes, name, &ReadOptions { fps })?;
+            Ok(Recording::from_bvh(bvh, name))
+        } else {
+            let table = Table::parse(bytes, name)?;
+            Recording::from_table(table, name, fps)
+        }
+    }
+
+    pub fn from_bvh(bvh: Bvh, name: &str) -> Recording {
+        let poses = forward_kinematics(&bvh.skeleton, &bvh.motion);
+        Recording {
+            name: name.to_string(),
+            joint_names: bvh.skeleton.names.clone(),
+            parents: bvh.skeleton.parents.clone(),
+            poses,
+            fps: bvh.motion.fps(),
+            accel: None,
+            warnings: bvh.warnings.clone(),
+            source: Source::Bvh(bvh),
+        }
+    }
+
+    pub fn from_table(table: Table, name: &str, fps: Option<f64>) -> Result<Recording, Error> {
+        if table.joint_names.is_empty() {
+            return Err(Error::whole(
+                name,
+                "the table has no `<Joint>.Dx/.Dy/.Dz` position columns",
+            ));
+        }
+        let mut warnings = table.warnings.clone();
+        let fps = match (table.frame_time_s(), fps) {
+            (Some(dt), _) => 1.0 / dt,
+            (None, Some(fps)) => fps,
+            (None, None) => {
+                warnings.push(format!(
+                    "no usable Time column; assuming {} Hz (set it with --fps)",
+                    crate::bvh::DEFAULT_FPS
+                ));
+                crate::bvh::DEFAULT_FPS
+            }
+        };
+        let accel = Accelerations::from_table(&table);
+        Ok(Recording {
+            name: name.to_string(),
+            joint_names: table.joint_names.clone(),
+            parents: vec![None; table.joint_names.len()],
+            poses: table.poses(),
+            fps,
+            accel: (!accel.sensor_names.is_empty()).then_some(accel),
+            warnings,
+            source: Source::Table(table),
+        })
+    }
+
+    /// Attaches an accelerometer side file; its rows must match the frames.
+    pub fn attach_accel(&mut self, accel: Accelerations) -> Result<(), Error> {
+        if accel.frame_count() != self.frame_count() {
+            return Err(Error::whole(
+                &accel.file,
+                format!(
+                    "has {} rows but {} has {} frames; they must be the same recording",
+                    accel.frame_count(),
+                    self.name,
+                    self.frame_count()
+                ),
+            ));
+        }
+        self.accel = Some(accel);
+        Ok(())
+    }
+
+    pub fn frame_count(&self) -> usize {
+        self.poses.frame_count()
+    }
+
+    pub fn duration_s(&self) -> f64 {
+        self.frame_count() as f64 / self.fps
+    }
+
+    /// The feet, detected or as chosen.
+    pub fn feet(&self, choice: &FeetChoice) -> Result<Feet, Error> {
+        resolve_feet(
+            &self.joint_names,
+            choice.left.as_deref(),
+            choice.right.as_deref(),
+        )
+        .map_err(|message| Error::whole(&self.name, message))
+    }
+
+    /// Acceleration magnitudes of the two feet in g, `[left, right]`: from the
+    /// accelerometers named like the foot joints when there are any, else from
+    /// the kinematics.
+    pub fn foot_accel_g(&self, feet: Feet) -> ([Vec<f64>; 2], AccelSource) {
+        let left_name = &self.joint_names[feet.left];
+        let right_name = &self.joint_names[feet.right];
+        if let Some(accel) = &self.accel
+            && let (Some(l), Some(r)) = (accel.sensor(left_name), accel.sensor(right_name))
+        {
+            return (
+                [magnitudes(l), magnitudes(r)],
+                AccelSource::Accelerometer {
+                    left: left_name.clone(),
+                    right: right_name.clone(),
+                },
+            );
+        }
+        // The root's own motion is the vendor's translation guess; remove it so
+        // the kinematic acceleration reflects the legs only.
+        let root = self.poses.trajectory(0);
+        let relative = |foot: Foot| -> Vec<DVec3> {
+            let joint = feet.joint(foot);
+            (0..self.frame_count())
+                .map(|f| self.poses.at(f, joint) - root[f])
+                .collect()
+        };
+        (
+            [
+                kinematic_accel_magnitude_g(&relative(Foot::Left), self.fps),
+                kinematic_accel_magnitude_g(&relative(Foot::Right), self.fps),
+            ],
+            AccelSource::Kinematic,
+        )
+    }
+
+    /// Runs the paper's method.
+    pub fn translate_paper(
+        &self,
+        feet: &FeetChoice,
+        params: &PaperParams,
+    ) -> Result<Translated, Error> {
+        let feet = self.feet(feet)?;
+        let ([left, right], accel_source) = self.foot_accel_g(feet);
+        let paper = paper_translation(&self.poses, feet, [&left, &right], self.fps, params)
+            .map_err(|message| Error::whole(&self.name, message))?;
+        Ok(Translated {
+            poses: self.poses.shifted(&paper.shift_cm),
+            shift_cm: paper.shift_cm.clone(),
+            feet,
+            accel_source,
+            paper,
+        })
+    }
+
+    /// The recording with every frame moved by `shift_cm`, in its own format
+    /// (BVH text or CSV table text).
+    pub fn write_shifted(&self, shift_cm: &[DVec3]) -> String {
+        match &self.source {
+            Source::Bvh(bvh) => {
+                let mut out = bvh.clone();
+                out.shift_root(shift_cm);
+                out.write()
+            }
+            Source::Table(table) => table.with_shift(shift_cm).write(),
+        }
+    }
+
+    /// The file extension of the format it came in.
+    pub fn extension(&self) -> &'static str {
+        match self.source {
+            Source::Bvh(_) => "bvh",
+            Source::Table(_) => "csv",
+        }
+    }
+}

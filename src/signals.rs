@@ -1,1 +1,328 @@
-//! (being written)
+//! Per-frame signal processing: Gaussian smoothing (an exact port of the R
+//! `smoother` package that RMoCap uses, and a cleaner variant without its
+//! zeroed tails), accelerations from positions, and vector magnitudes.
+
+use glam::DVec3;
+
+/// Standard gravity in cm/s², the unit the accelerometer's g is measured in.
+pub const STANDARD_GRAVITY_CM_PER_S2: f64 = 980.665;
+
+/// The Gaussian window of R `smoother` (`makeWindow` in `smth.gaussian`),
+/// normalised to sum 1: for `k` in `0..window_len`, with `hw = window_len / 2`
+/// (not rounded) and `m = k - trunc(hw)`, the weight is `e^(-0.5 (alpha m / hw)²)`.
+///
+/// `window_len` must be at least 1.
+pub fn r_gaussian_kernel(window_len: usize, alpha: f64) -> Vec<f64> {
+    let hw = (window_len as f64 / 2.0).abs();
+    let alpha = alpha.abs();
+    // R's `as.integer` truncates; `hw` is positive so `as` does the same.
+    let hw_int = hw as i64;
+    let weights: Vec<f64> = (0..window_len)
+        .map(|k| {
+            let m = k as i64 - hw_int;
+            let t = alpha * m as f64 / hw;
+            // R evaluates `e^k` with `e = exp(1)` through C `pow`, and `x^2` as `x * x`;
+            // doing the same keeps the kernel bit-identical to R's on the same libm.
+            std::f64::consts::E.powf(-0.5 * (t * t))
+        })
+        .collect();
+    // R's `sum` accumulates in long double; a compensated sum gets the same
+    // correctly rounded total for these few positive terms.
+    let total = compensated_sum(&weights);
+    weights.into_iter().map(|w| w / total).collect()
+}
+
+/// Neumaier's compensated sum: close to the correctly rounded sum of `values`.
+fn compensated_sum(values: &[f64]) -> f64 {
+    let mut sum = 0.0_f64;
+    let mut compensation = 0.0_f64;
+    for &v in values {
+        let t = sum + v;
+        if sum.abs() >= v.abs() {
+            compensation += (sum - t) + v;
+        } else {
+            compensation += (v - t) + sum;
+        }
+        sum = t;
+    }
+    sum + compensation
+}
+
+/// The window length, in samples, that R `smoother` derives from `window`
+/// for a signal of `len` samples (`.determineWindowLength`): a `window` strictly
+/// between 0 and 1 is a fraction of `len`, anything else a count; the result is
+/// `trunc(max(|w|, 1))`. Errors when it is not shorter than the signal, as R does.
+pub fn r_window_length(len: usize, window: f64) -> Result<usize, String> {
+    let mut w = window;
+    if w > 0.0 && w < 1.0 {
+        // The same f64 product as R's `w * l`: with `window = 100 / n` it is
+        // 100 for most `n` but 99.99999999999999 (so 99 samples) for some.
+        w *= len as f64;
+    }
+    // R's `max` propagates NaN (and then fails); Rust's `f64::max` would drop it.
+    let w = if w.is_nan() { w } else { w.abs().max(1.0) };
+    if !w.is_finite() || w >= i32::MAX as f64 {
+        return Err(format!(
+            "smoothing window {window} gives no usable window length"
+        ));
+    }
+    let window_len = w as usize;
+    if len <= window_len {
+        return Err(format!(
+            "a smoothing window of {window_len} samples needs more than {window_len} frames, found {len}"
+        ));
+    }
+    Ok(window_len)
+}
+
+/// Exactly what RMoCap computes with R
+/// `smoother::smth.gaussian(x, window = window_fraction, alpha = alpha, tails = FALSE)`
+/// followed by `zz[is.na(zz)] <- 0`.
+///
+/// With `w` = [`r_window_length`]`(x.len(), window_fraction)`, `left = w / 2`
+/// (integer division) and `right = w - left`, output `i` (0-based) is
+/// `Σ_k x[i - left + k] · kernel[k]` over the [`r_gaussian_kernel`] for
+/// `left <= i < len - right`, and 0 elsewhere (R's NA tails; when `left` is 0,
+/// R's `1:0` also blanks the first sample, and so do we).
+///
+/// Errors when the window is not shorter than `x`, or is not finite.
+pub fn smooth_r_gaussian(x: &[f64], window_fraction: f64, alpha: f64) -> Result<Vec<f64>, String> {
+    let n = x.len();
+    let window_len = r_window_length(n, window_fraction)?;
+    let kernel = r_gaussian_kernel(window_len, alpha);
+    let left = window_len / 2;
+    let right = window_len - left;
+    let mut out = vec![0.0; n];
+    // R renormalises the kernel where it overhangs the signal, but those
+    // outputs are exactly the tails it then replaces by NA (then 0), so only
+    // the full-window middle is computed.
+    for (i, y) in out.iter_mut().enumerate().take(n - right).skip(left) {
+        let data = &x[i - left..i - left + window_len];
+        // Sequential sum, as R's `%*%` (BLAS dgemv) on a 1-row matrix.
+        *y = data
+            .iter()
+            .zip(&kernel)
+            .fold(0.0, |acc, (d, k)| acc + d * k);
+    }
+    if left == 0 {
+        out[0] = 0.0;
+    }
+    Ok(out)
+}
+
+/// Gaussian smoothing without R's zeroed tails: each output is the weighted
+/// mean of the samples within `window_samples / 2` (rounded down) on either
+/// side, with weights `exp(-0.5 (d / sigma)²)` at distance `d` samples and
+/// `sigma = window_samples / (2 alpha)` — the same bell as
+/// [`smooth_r_gaussian`], but centred on the sample. Near the ends the part of
+/// the kernel that overhangs the signal is dropped and the rest renormalised,
+/// so a constant signal stays constant everywhere.
+///
+/// Returns `x` unchanged when the window is under 2 samples or `alpha` is not
+/// a positive finite number (there is then nothing to smooth with).
+pub fn smooth_gaussian_clean(x: &[f64], window_samples: f64, alpha: f64) -> Vec<f64> {
+    let n = x.len();
+    let sigma = window_samples / (2.0 * alpha);
+    if !(window_samples >= 2.0 && sigma.is_finite() && sigma > 0.0) || n == 0 {
+        return x.to_vec();
+    }
+    // `window_samples >= 2` and finite, so at least 1; capped by the signal
+    // length since a longer kernel would only be truncated anyway.
+    let half = ((window_samples / 2.0) as usize).min(n - 1);
+    let kernel: Vec<f64> = (0..=2 * half)
+        .map(|k| {
+            let d = (k as f64 - half as f64) / sigma;
+            (-0.5 * d * d).exp()
+        })
+        .collect();
+    let full_sum: f64 = kernel.iter().sum();
+    (0..n)
+        .map(|i| {
+            // Kernel index k covers sample i + k - half.
+            let k_start = half.saturating_sub(i);
+            let k_end = (2 * half + 1).min(n + half - i);
+            let first_sample = i + k_start - half;
+            let weights = &kernel[k_start..k_end];
+            let data = &x[first_sample..first_sample + weights.len()];
+            let dot: f64 = data.iter().zip(weights).map(|(d, w)| d * w).sum();
+            if weights.len() == kernel.len() {
+                dot / full_sum
+            } else {
+                dot / weights.iter().sum::<f64>()
+            }
+        })
+        .collect()
+}
+
+/// What an accelerometer riding on `positions_cm` would read, as a magnitude
+/// in g: `|p'' + (0, g, 0)| / g` with `g` = [`STANDARD_GRAVITY_CM_PER_S2`] and
+/// +Y up (an accelerometer at rest reads 1 g). `p''` is the central second
+/// difference `(p[f-1] - 2 p[f] + p[f+1]) · fps²`; the first and last frames
+/// take their neighbour's value (the one-sided second difference). With fewer
+/// than 3 frames there is no acceleration to see and every frame reads 1 g.
+///
+/// For a BVH without accelerometer data: the caller passes the foot's path
+/// with the root translation removed, since that translation is what is unknown.
+pub fn kinematic_accel_magnitude_g(positions_cm: &[DVec3], fps: f64) -> Vec<f64> {
+    let n = positions_cm.len();
+    let gravity = DVec3::new(0.0, STANDARD_GRAVITY_CM_PER_S2, 0.0);
+    if n < 3 {
+        return vec![1.0; n];
+    }
+    let fps2 = fps * fps;
+    let second_difference =
+        |f: usize| (positions_cm[f - 1] - 2.0 * positions_cm[f] + positions_cm[f + 1]) * fps2;
+    (0..n)
+        .map(|f| {
+            let accel_cm_s2 = second_difference(f.clamp(1, n - 2));
+            (accel_cm_s2 + gravity).length() / STANDARD_GRAVITY_CM_PER_S2
+        })
+        .collect()
+}
+
+/// The length of each vector.
+pub fn magnitudes(v: &[DVec3]) -> Vec<f64> {
+    v.iter().map(|a| a.length()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn kernel_sums_to_one_and_is_symmetric_for_odd_length() {
+        for len in [1, 2, 5, 99, 100, 101] {
+            let k = r_gaussian_kernel(len, 2.5);
+            assert_eq!(k.len(), len);
+            assert!((k.iter().sum::<f64>() - 1.0).abs() < 1e-14, "len {len}");
+        }
+        let k = r_gaussian_kernel(99, 2.5);
+        for i in 0..99 {
+            assert_eq!(k[i], k[98 - i]);
+        }
+        // Even length: the peak is at index len/2, one past the middle.
+        let k = r_gaussian_kernel(100, 2.5);
+        let peak = (0..100).max_by(|&a, &b| k[a].total_cmp(&k[b])).unwrap();
+        assert_eq!(peak, 50);
+        // The edge weight of R's window is e^(-alpha²/2) times the peak.
+        assert!((k[0] / k[50] - (-0.5 * 2.5f64 * 2.5).exp()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn constant_stays_constant_in_the_middle_and_tails_are_zero() {
+        let x = vec![3.5; 400];
+        let y = smooth_r_gaussian(&x, 100.0 / 400.0, 2.5).unwrap();
+        assert!(y[..50].iter().all(|&v| v == 0.0));
+        assert!(y[350..].iter().all(|&v| v == 0.0));
+        assert!(y[50..350].iter().all(|&v| (v - 3.5).abs() < 1e-12));
+    }
+
+    #[test]
+    fn window_of_99_when_the_fraction_rounds_down() {
+        // (100 / 161) * 161 is 99.99999999999999 in f64, so R uses 99 samples.
+        assert_eq!(r_window_length(161, 100.0 / 161.0), Ok(99));
+        assert_eq!(r_window_length(2600, 100.0 / 2600.0), Ok(100));
+        let x: Vec<f64> = (0..161).map(|i| i as f64).collect();
+        let y = smooth_r_gaussian(&x, 100.0 / 161.0, 2.5).unwrap();
+        // 99 samples: 49 zeros on the left, 50 on the right; a symmetric
+        // kernel leaves a ramp unchanged.
+        assert_eq!(y[48], 0.0);
+        assert!((y[49] - 49.0).abs() < 1e-9);
+        assert!((y[110] - 110.0).abs() < 1e-9);
+        assert_eq!(y[111], 0.0);
+        // 100 samples: 50 zeros on each side.
+        let x: Vec<f64> = (0..300).map(|i| i as f64).collect();
+        let y = smooth_r_gaussian(&x, 100.0 / 300.0, 2.5).unwrap();
+        assert_eq!(y[49], 0.0);
+        assert!(y[50] != 0.0 && y[249] != 0.0);
+        assert_eq!(y[250], 0.0);
+    }
+
+    #[test]
+    fn too_short_for_the_window() {
+        assert!(smooth_r_gaussian(&[1.0; 100], 100.0, 2.5).is_err());
+        assert!(smooth_r_gaussian(&[1.0; 101], 100.0, 2.5).is_ok());
+        assert!(smooth_r_gaussian(&[1.0; 10], f64::NAN, 2.5).is_err());
+        assert!(smooth_r_gaussian(&[], 0.5, 2.5).is_err());
+    }
+
+    #[test]
+    fn window_of_one_sample_copies_but_blanks_both_ends() {
+        // A fraction of exactly 1 is taken as a count of 1 sample (R's rule);
+        // R's `1:0` then blanks the first sample as well as the last.
+        let x = [4.0, 5.0, 6.0, 7.0];
+        assert_eq!(
+            smooth_r_gaussian(&x, 1.0, 2.5),
+            Ok(vec![0.0, 5.0, 6.0, 0.0])
+        );
+    }
+
+    #[test]
+    fn clean_mode_has_no_zeros_at_the_edges() {
+        let x = vec![2.0; 300];
+        let y = smooth_gaussian_clean(&x, 100.0, 2.5);
+        assert!(y.iter().all(|&v| (v - 2.0).abs() < 1e-12));
+        // A ramp stays a ramp where the window fits.
+        let x: Vec<f64> = (0..300).map(|i| i as f64).collect();
+        let y = smooth_gaussian_clean(&x, 100.0, 2.5);
+        assert!((y[150] - 150.0).abs() < 1e-9);
+        assert!(y[0] > 0.0 && y[299] < 299.0);
+        // Degenerate windows leave the signal alone.
+        assert_eq!(smooth_gaussian_clean(&x, 1.0, 2.5), x);
+        assert_eq!(smooth_gaussian_clean(&x, 100.0, 0.0), x);
+        // A window longer than the signal still works.
+        assert_eq!(
+            smooth_gaussian_clean(&[1.0, 1.0, 1.0], 100.0, 2.5),
+            vec![1.0; 3]
+        );
+    }
+
+    #[test]
+    fn clean_matches_r_in_the_middle_for_odd_windows() {
+        // Odd R windows are centred, so both smoothers agree away from the ends.
+        let x: Vec<f64> = (0..500).map(|i| (i as f64 * 0.1).sin()).collect();
+        let r = smooth_r_gaussian(&x, 99.0, 2.5).unwrap();
+        let c = smooth_gaussian_clean(&x, 99.0, 2.5);
+        for i in 49..450 {
+            assert!((r[i] - c[i]).abs() < 1e-12, "{i}: {} vs {}", r[i], c[i]);
+        }
+    }
+
+    #[test]
+    fn acceleration_of_a_parabola_is_exact() {
+        let fps = 100.0;
+        let a = DVec3::new(30.0, -50.0, 20.0);
+        let p: Vec<DVec3> = (0..10)
+            .map(|f| {
+                let t = f as f64 / fps;
+                DVec3::new(1.0, 2.0, 3.0) + 0.5 * a * t * t
+            })
+            .collect();
+        let m = kinematic_accel_magnitude_g(&p, fps);
+        let expected = (a + DVec3::new(0.0, STANDARD_GRAVITY_CM_PER_S2, 0.0)).length()
+            / STANDARD_GRAVITY_CM_PER_S2;
+        for v in m {
+            assert!((v - expected).abs() < 1e-9, "{v} vs {expected}");
+        }
+    }
+
+    #[test]
+    fn at_rest_reads_one_g() {
+        let p = vec![DVec3::new(5.0, 7.0, -1.0); 6];
+        assert!(
+            kinematic_accel_magnitude_g(&p, 100.0)
+                .iter()
+                .all(|&v| v == 1.0)
+        );
+        assert_eq!(kinematic_accel_magnitude_g(&p[..2], 100.0), vec![1.0, 1.0]);
+        assert!(kinematic_accel_magnitude_g(&[], 100.0).is_empty());
+    }
+
+    #[test]
+    fn magnitudes_are_lengths() {
+        assert_eq!(
+            magnitudes(&[DVec3::new(3.0, 4.0, 0.0), DVec3::ZERO]),
+            vec![5.0, 0.0]
+        );
+    }
+}
