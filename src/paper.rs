@@ -90,6 +90,8 @@ pub struct PaperResult {
     pub ground_cm: f64,
     /// Pass 3's vertical shift of each frame (already included in `shift_cm`).
     pub ground_shift_cm: Vec<f64>,
+    /// What the method had to adapt (a window longer than the recording).
+    pub warnings: Vec<String>,
 }
 
 /// Hachaj & Ogiela's translation (see the module documentation) of `poses`,
@@ -102,8 +104,8 @@ pub struct PaperResult {
 ///
 /// Errors when the lengths disagree, a foot index is out of range, a foot
 /// position, acceleration or parameter is not finite, or the recording is too
-/// short: `Faithful` needs more frames than the window (R would quietly use a
-/// window of `window / frames` samples instead), `Clean` at least 2 frames.
+/// short (`Faithful` needs 4 frames, `Clean` 2). A `Faithful` window longer
+/// than the recording is shortened to half of it, with a warning.
 pub fn paper_translation(
     poses: &Poses,
     feet: Feet,
@@ -120,7 +122,21 @@ pub fn paper_translation(
         ));
     }
 
-    let window_samples = params.window_s * fps;
+    let mut warnings = Vec::new();
+    let mut window_samples = params.window_s * fps;
+    if params.smoothing == Smoothing::Faithful && n as f64 <= window_samples.round() {
+        // R would turn `window / frames` (now ≥ 1) into a window of
+        // trunc(window / frames) samples, which shrinks as the recording
+        // grows shorter. Half the recording is the sensible stand-in: the
+        // middle half can still be pinned between the zeroed tails.
+        let shortened = (n / 2) as f64;
+        warnings.push(format!(
+            "the recording ({n} frames) is shorter than the {} s smoothing window ({} frames); using {shortened} frames",
+            params.window_s,
+            window_samples.round()
+        ));
+        window_samples = shortened;
+    }
     let smooth = |x: &[f64]| -> Result<Vec<f64>, String> {
         match params.smoothing {
             Smoothing::Faithful => {
@@ -180,6 +196,7 @@ pub fn paper_translation(
         ground_foot,
         ground_cm,
         ground_shift_cm,
+        warnings,
     })
 }
 
@@ -239,11 +256,14 @@ fn check_inputs(
     match params.smoothing {
         Smoothing::Faithful => {
             let window = (params.window_s * fps).round();
-            if window < 1.0 || n as f64 <= window {
+            if window < 1.0 {
                 return Err(format!(
-                    "a smoothing window of {window} frames ({} s at {fps} fps) needs more than {window} frames, found {n}",
+                    "a smoothing window of {} s at {fps} fps is less than one frame",
                     params.window_s
                 ));
+            }
+            if n < 4 {
+                return Err(format!("expected at least 4 frames, found {n}"));
             }
         }
         Smoothing::Clean => {
@@ -397,8 +417,16 @@ mod tests {
         nan[5] = f64::NAN;
         assert!(paper_translation(&poses, FEET, [&ok, &nan], 100.0, &p).is_err());
         assert!(paper_translation(&poses, FEET, [&ok, &ok], 0.0, &p).is_err());
-        // 300 frames at 400 fps is shorter than the 400-frame window.
-        assert!(paper_translation(&poses, FEET, [&ok, &ok], 400.0, &p).is_err());
+        // 300 frames at 400 fps is shorter than the 400-frame window: the
+        // window is halved to fit, and the result says so.
+        let short = paper_translation(&poses, FEET, [&ok, &ok], 400.0, &p).unwrap();
+        assert!(
+            short.warnings[0].contains("using 150 frames"),
+            "{:?}",
+            short.warnings
+        );
+        let three = walk(3, |_| DVec3::ZERO, |_| DVec3::ZERO);
+        assert!(paper_translation(&three, FEET, [&ok[..3], &ok[..3]], 100.0, &p).is_err());
         let clean = PaperParams {
             smoothing: Smoothing::Clean,
             ..p

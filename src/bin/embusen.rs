@@ -136,7 +136,7 @@ fn print_info(r: &Recording) {
         }
     );
     println!("  frames:   {}", r.frame_count());
-    println!("  rate:     {} Hz", r.fps);
+    println!("  rate:     {} Hz", hz(r.fps));
     println!("  duration: {:.2} s", r.duration_s());
     println!(
         "  joints:   {} ({})",
@@ -220,9 +220,11 @@ fn run_translate(args: &TranslateArgs) -> ExitCode {
     for input in &args.inputs {
         bar.set_message(input.display().to_string());
         match translate_one(input, args, &params, &feet, many) {
-            Ok(summary) => bar.println(summary),
+            // `suspend` keeps the bar from overdrawing the line; a hidden bar
+            // (output not a terminal) would swallow `bar.println`.
+            Ok(summary) => bar.suspend(|| println!("{summary}")),
             Err(e) => {
-                bar.println(format!("error: {e}"));
+                bar.suspend(|| eprintln!("error: {e}"));
                 failed += 1;
             }
         }
@@ -273,9 +275,9 @@ fn describe(recording: &Recording, t: &Translated) -> String {
     let hips_before = floor_path_cm(&recording.poses.trajectory(0));
     let hips_after = floor_path_cm(&t.poses.trajectory(0));
     format!(
-        "{} frames at {} Hz, feet {}/{}, accel from {}; pinned in {:.0}% (pass 1) and {:.0}% (pass 2) of frames; hips floor path {:.2} m → {:.2} m",
+        "{} frames at {} Hz, feet {}/{}, accel from {}; pinned in {:.0}% (pass 1) and {:.0}% (pass 2) of frames; hips floor path {:.2} m → {:.2} m{}",
         recording.frame_count(),
-        recording.fps,
+        hz(recording.fps),
         recording.joint_names[t.feet.left],
         recording.joint_names[t.feet.right],
         t.accel_source,
@@ -283,7 +285,19 @@ fn describe(recording: &Recording, t: &Translated) -> String {
         100.0 * pinned(&t.paper.pass2_pinned) as f64 / frames as f64,
         hips_before / 100.0,
         hips_after / 100.0,
+        t.paper
+            .warnings
+            .iter()
+            .map(|w| format!("; warning: {w}"))
+            .collect::<String>(),
     )
+}
+
+/// A frame rate as people write it: `30` for 30.00003 (a `Frame Time` of
+/// 0.0333333), `29.97` for NTSC.
+fn hz(fps: f64) -> String {
+    let text = format!("{fps:.2}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 /// Length of a trajectory's path on the floor (X/Z), in cm.
@@ -301,7 +315,7 @@ fn run_demo() -> ExitCode {
     println!(
         "  {} frames at {} Hz ({:.1} s); its true translation was removed and is now estimated again",
         recording.frame_count(),
-        recording.fps,
+        hz(recording.fps),
         recording.duration_s()
     );
     let translated =
