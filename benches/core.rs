@@ -39,9 +39,7 @@ fn main() {
 
     let nidan = read("heian_nidan.bvh");
     let t = median_time(|| {
-        std::hint::black_box(
-            Bvh::parse(&nidan, "heian_nidan.bvh", &ReadOptions::default()).expect("parses"),
-        );
+        std::hint::black_box(Bvh::parse(&nidan, "heian_nidan.bvh", &ReadOptions::default()).expect("parses"));
     });
     println!(
         "BVH read      heian_nidan.bvh ({:.2} MB): {:7.3} ms  {:7.1} MB/s",

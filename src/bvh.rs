@@ -59,10 +59,7 @@ impl<'a> Cursor<'a> {
             self.pos += 1;
         }
         // Non-UTF-8 words show up as an empty word, which every caller rejects.
-        (
-            start,
-            std::str::from_utf8(&self.text[start..self.pos]).unwrap_or("\u{fffd}"),
-        )
+        (start, std::str::from_utf8(&self.text[start..self.pos]).unwrap_or("\u{fffd}"))
     }
 
     /// The rest of the current line, trimmed: joint names may contain spaces.
@@ -83,27 +80,19 @@ impl<'a> Cursor<'a> {
         if word.eq_ignore_ascii_case(wanted) {
             Ok(())
         } else {
-            Err(self.error_at(
-                at,
-                format!("expected `{wanted}` {context}, found {}", shown(word)),
-            ))
+            Err(self.error_at(at, format!("expected `{wanted}` {context}, found {}", shown(word))))
         }
     }
 
     fn number(&mut self, what: &str) -> Result<f64, Error> {
         let (at, word) = self.word();
-        parse_finite(word)
-            .ok_or_else(|| self.error_at(at, format!("expected {what}, found {}", shown(word))))
+        parse_finite(word).ok_or_else(|| self.error_at(at, format!("expected {what}, found {}", shown(word))))
     }
 }
 
 /// How a word is quoted in an error message.
 fn shown(word: &str) -> String {
-    if word.is_empty() {
-        "the end of the file".to_string()
-    } else {
-        format!("`{word}`")
-    }
+    if word.is_empty() { "the end of the file".to_string() } else { format!("`{word}`") }
 }
 
 fn parse_finite(word: &str) -> Option<f64> {
@@ -128,13 +117,9 @@ impl Bvh {
             return Err(cursor.error_at(at, "only one ROOT is supported; this file has a second"));
         }
         if !word.eq_ignore_ascii_case("MOTION") {
-            return Err(cursor.error_at(
-                at,
-                format!(
-                    "expected `MOTION` after the hierarchy, found {}",
-                    shown(word)
-                ),
-            ));
+            return Err(
+                cursor.error_at(at, format!("expected `MOTION` after the hierarchy, found {}", shown(word)))
+            );
         }
         let declared_frames = parse_frames_line(&mut cursor)?;
         let frame_time_s = parse_frame_time_line(&mut cursor)?;
@@ -144,7 +129,9 @@ impl Bvh {
             let fps = options.fps.unwrap_or(DEFAULT_FPS);
             warnings.push(match options.fps {
                 Some(_) => format!("Frame Time is {frame_time_s} (an exporter bug); using {fps} Hz as given"),
-                None => format!("Frame Time is {frame_time_s} (an exporter bug); assuming {fps} Hz (set it with --fps)"),
+                None => format!(
+                    "Frame Time is {frame_time_s} (an exporter bug); assuming {fps} Hz (set it with --fps)"
+                ),
             });
             1.0 / fps
         };
@@ -159,15 +146,7 @@ impl Bvh {
                 "`Frames:` says {declared_frames} but the file has {frame_count} rows; using {frame_count}"
             ));
         }
-        Ok(Bvh {
-            skeleton,
-            motion: Motion {
-                channel_count,
-                frame_time_s,
-                values,
-            },
-            warnings,
-        })
+        Ok(Bvh { skeleton, motion: Motion { channel_count, frame_time_s, values }, warnings })
     }
 
     /// Writes the recording as BVH text: tabs for nesting, `End Site` for end
@@ -271,16 +250,10 @@ fn write_joint(out: &mut String, s: &Skeleton, children: &[Vec<usize>], j: usize
         format_number(&mut ryu::Buffer::new(), offset.z)
     );
     if s.is_end_site[j] {
-        out.push_str(&format!(
-            "{indent}End Site\n{indent}{{\n{indent}\tOFFSET {offset_text}\n{indent}}}\n"
-        ));
+        out.push_str(&format!("{indent}End Site\n{indent}{{\n{indent}\tOFFSET {offset_text}\n{indent}}}\n"));
         return;
     }
-    let keyword = if s.parents[j].is_none() {
-        "ROOT"
-    } else {
-        "JOINT"
-    };
+    let keyword = if s.parents[j].is_none() { "ROOT" } else { "JOINT" };
     out.push_str(&format!("{indent}{keyword} {}\n{indent}{{\n", s.names[j]));
     out.push_str(&format!("{indent}\tOFFSET {offset_text}\n"));
     let names: Vec<&str> = s.channels[j].iter().map(|c| c.name()).collect();
@@ -298,11 +271,7 @@ fn write_joint(out: &mut String, s: &Skeleton, children: &[Vec<usize>], j: usize
 
 /// Parses a joint after its `ROOT`/`JOINT` keyword: name, `{`, OFFSET,
 /// CHANNELS, children, `}`.
-fn parse_joint(
-    cursor: &mut Cursor,
-    skeleton: &mut Skeleton,
-    parent: Option<usize>,
-) -> Result<(), Error> {
+fn parse_joint(cursor: &mut Cursor, skeleton: &mut Skeleton, parent: Option<usize>) -> Result<(), Error> {
     let (at, mut name) = cursor.rest_of_line();
     // Some writers put the brace on the name's line: `JOINT Hips {`.
     let mut brace_on_name_line = false;
@@ -325,13 +294,8 @@ fn parse_joint(
     if word.eq_ignore_ascii_case("CHANNELS") {
         let (at, count_word) = cursor.word();
         let count: usize = count_word.parse().map_err(|_| {
-            cursor.error_at(
-                at,
-                format!(
-                    "expected the channel count of `{name}`, found {}",
-                    shown(count_word)
-                ),
-            )
+            cursor
+                .error_at(at, format!("expected the channel count of `{name}`, found {}", shown(count_word)))
         })?;
         if count > 6 {
             return Err(cursor.error_at(at, format!("expected at most 6 channels, found {count}")));
@@ -348,9 +312,7 @@ fn parse_joint(
                 )
             })?;
             if channels.contains(&channel) {
-                return Err(
-                    cursor.error_at(at, format!("channel {word} appears twice in `{name}`"))
-                );
+                return Err(cursor.error_at(at, format!("channel {word} appears twice in `{name}`")));
             }
             channels.push(channel);
         }
@@ -371,54 +333,35 @@ fn parse_joint(
             let offset = parse_vec3(cursor, "a number in an End Site OFFSET")?;
             cursor.expect_word("}", "to close the End Site")?;
             let index = skeleton.joint_count();
-            skeleton.push_joint(
-                format!("EndSite{index}"),
-                Some(joint),
-                offset,
-                Vec::new(),
-                true,
-            );
+            skeleton.push_joint(format!("EndSite{index}"), Some(joint), offset, Vec::new(), true);
         } else {
             return Err(cursor.error_at(
                 at,
-                format!(
-                    "expected `JOINT`, `End Site` or `}}` in joint `{name}`, found {}",
-                    shown(word)
-                ),
+                format!("expected `JOINT`, `End Site` or `}}` in joint `{name}`, found {}", shown(word)),
             ));
         }
     }
 }
 
 fn parse_vec3(cursor: &mut Cursor, what: &str) -> Result<DVec3, Error> {
-    Ok(DVec3::new(
-        cursor.number(what)?,
-        cursor.number(what)?,
-        cursor.number(what)?,
-    ))
+    Ok(DVec3::new(cursor.number(what)?, cursor.number(what)?, cursor.number(what)?))
 }
 
 /// `Frames: N` (the colon may be glued to the number or spaced).
 fn parse_frames_line(cursor: &mut Cursor) -> Result<usize, Error> {
     let (at, word) = cursor.word();
-    let glued = word
-        .strip_prefix("Frames:")
-        .or_else(|| word.strip_prefix("frames:"));
+    let glued = word.strip_prefix("Frames:").or_else(|| word.strip_prefix("frames:"));
     let (at, count_word) = match glued {
         Some("") => cursor.word(),
         Some(rest) => (at + "Frames:".len(), rest),
         None => {
-            return Err(cursor.error_at(
-                at,
-                format!("expected `Frames:` after MOTION, found {}", shown(word)),
-            ));
+            return Err(
+                cursor.error_at(at, format!("expected `Frames:` after MOTION, found {}", shown(word)))
+            );
         }
     };
     count_word.parse().map_err(|_| {
-        cursor.error_at(
-            at,
-            format!("expected the number of frames, found {}", shown(count_word)),
-        )
+        cursor.error_at(at, format!("expected the number of frames, found {}", shown(count_word)))
     })
 }
 
@@ -426,9 +369,7 @@ fn parse_frames_line(cursor: &mut Cursor) -> Result<usize, Error> {
 fn parse_frame_time_line(cursor: &mut Cursor) -> Result<f64, Error> {
     cursor.expect_word("Frame", "after the Frames line")?;
     let (at, word) = cursor.word();
-    let glued = word
-        .strip_prefix("Time:")
-        .or_else(|| word.strip_prefix("time:"));
+    let glued = word.strip_prefix("Time:").or_else(|| word.strip_prefix("time:"));
     let (at, value_word) = match glued {
         Some("") => cursor.word(),
         Some(rest) => (at + "Time:".len(), rest),
@@ -436,13 +377,10 @@ fn parse_frame_time_line(cursor: &mut Cursor) -> Result<f64, Error> {
     };
     match parse_finite(value_word) {
         Some(t) if t >= 0.0 => Ok(t),
-        _ => Err(cursor.error_at(
-            at,
-            format!(
-                "expected the frame time in seconds, found {}",
-                shown(value_word)
-            ),
-        )),
+        _ => {
+            Err(cursor
+                .error_at(at, format!("expected the frame time in seconds, found {}", shown(value_word))))
+        }
     }
 }
 
@@ -459,20 +397,16 @@ fn parse_motion_rows(
     // Finish the Frame Time line.
     while pos < text.len() && text[pos] != b'\n' {
         if !text[pos].is_ascii_whitespace() {
-            let end = text[pos..]
-                .iter()
-                .position(|b| b.is_ascii_whitespace())
-                .map_or(text.len(), |e| pos + e);
+            let end =
+                text[pos..].iter().position(|b| b.is_ascii_whitespace()).map_or(text.len(), |e| pos + e);
             let word = String::from_utf8_lossy(&text[pos..end]).into_owned();
-            return Err(cursor.error_at(
-                pos,
-                format!("expected the end of the Frame Time line, found `{word}`"),
-            ));
+            return Err(
+                cursor.error_at(pos, format!("expected the end of the Frame Time line, found `{word}`"))
+            );
         }
         pos += 1;
     }
-    let mut values =
-        Vec::with_capacity(channel_count.saturating_mul(declared_frames.min(10_000_000)));
+    let mut values = Vec::with_capacity(channel_count.saturating_mul(declared_frames.min(10_000_000)));
     let mut row_start_offset = pos;
     let mut in_row = 0usize;
     let mut frame = 0usize;
@@ -508,10 +442,7 @@ fn parse_motion_rows(
                 if in_row == channel_count {
                     return Err(cursor.error_at(
                         pos,
-                        format!(
-                            "expected {channel_count} values in frame {}, found more",
-                            frame + 1
-                        ),
+                        format!("expected {channel_count} values in frame {}, found more", frame + 1),
                     ));
                 }
                 values.push(v);
@@ -519,10 +450,8 @@ fn parse_motion_rows(
                 pos += len;
             }
             _ => {
-                let end = text[pos..]
-                    .iter()
-                    .position(|b| b.is_ascii_whitespace())
-                    .map_or(text.len(), |e| pos + e);
+                let end =
+                    text[pos..].iter().position(|b| b.is_ascii_whitespace()).map_or(text.len(), |e| pos + e);
                 let word = String::from_utf8_lossy(&text[pos..end]).into_owned();
                 return Err(cursor.error_at(pos, format!("expected a number, found `{word}`")));
             }
@@ -544,10 +473,7 @@ fn finish_row(
     } else {
         Err(cursor.error_at(
             row_start,
-            format!(
-                "expected {expected} values in frame {} (one per channel), found {found}",
-                frame + 1
-            ),
+            format!("expected {expected} values in frame {} (one per channel), found {found}", frame + 1),
         ))
     }
 }
@@ -576,23 +502,12 @@ mod tests {
     #[test]
     fn error_positions() {
         let bad = SMALL.replace("4 5 6 90", "4 5 x6 90");
-        assert_eq!(
-            parse(&bad).unwrap_err().to_string(),
-            "t.bvh:20:5: expected a number, found `x6`"
-        );
-        let bad = SMALL.replace(
-            "CHANNELS 3 Zrotation Xrotation Yrotation",
-            "CHANNELS 3 Zrotation Xrotation",
-        );
+        assert_eq!(parse(&bad).unwrap_err().to_string(), "t.bvh:20:5: expected a number, found `x6`");
+        let bad = SMALL.replace("CHANNELS 3 Zrotation Xrotation Yrotation", "CHANNELS 3 Zrotation Xrotation");
         let e = parse(&bad).unwrap_err();
         assert_eq!(e.line_column, Some((10, 3)), "{e}");
         assert!(e.message.contains("expected a channel name"), "{e}");
         let bad = SMALL.replace("1 2 3 0 0 0 0 0 0", "1 2 3 0 0 0 0 0");
-        assert!(
-            parse(&bad)
-                .unwrap_err()
-                .to_string()
-                .starts_with("t.bvh:19:1: expected 9 values in frame 1")
-        );
+        assert!(parse(&bad).unwrap_err().to_string().starts_with("t.bvh:19:1: expected 9 values in frame 1"));
     }
 }

@@ -81,11 +81,8 @@ impl Demo {
     /// inertial suit without a translation guess would give), the simulated
     /// foot accelerometers attached as sensors named like the foot joints.
     pub fn recording(&self) -> Recording {
-        let bvh = Bvh {
-            skeleton: self.skeleton.clone(),
-            motion: self.without_translation(),
-            warnings: Vec::new(),
-        };
+        let bvh =
+            Bvh { skeleton: self.skeleton.clone(), motion: self.without_translation(), warnings: Vec::new() };
         let mut recording = Recording::from_bvh(bvh, DEMO_NAME);
         recording.accel = Some(Accelerations {
             file: DEMO_NAME.to_string(),
@@ -133,9 +130,7 @@ pub fn demo() -> Demo {
     // The accelerometers measure the generated motion itself, not the plan.
     let poses = forward_kinematics(&rig.skeleton, &motion);
     let mut rng = XorShift64(0x9E37_79B9_7F4A_7C15);
-    let foot_accel_g = rig
-        .legs
-        .map(|[_, _, foot]| accelerometer_g(&poses.trajectory(foot), &mut rng));
+    let foot_accel_g = rig.legs.map(|[_, _, foot]| accelerometer_g(&poses.trajectory(foot), &mut rng));
     Demo {
         skeleton: rig.skeleton,
         motion,
@@ -169,8 +164,8 @@ fn build_rig() -> Rig {
     ];
     // The toe lies on the floor when the foot is flat.
     let toe = [0.0, -ANKLE_HEIGHT_CM, 13.49];
-    let [left_leg, right_leg] = [("Left", 1.0), ("Right", -1.0)]
-        .map(|(side, sign)| chain(s, hips, side, sign, &leg_bones, toe));
+    let [left_leg, right_leg] =
+        [("Left", 1.0), ("Right", -1.0)].map(|(side, sign)| chain(s, hips, side, sign, &leg_bones, toe));
     let spine_bones = [
         ("SpineLow", [0.0, 4.78, 0.0]),
         ("SpineMid", [0.0, 13.05, 0.0]),
@@ -265,13 +260,8 @@ impl Key {
     /// `[left, right]` ankle positions on the floor, as (x, z).
     fn feet_cm(&self) -> [DVec2; 2] {
         let yaw = self.heading_deg.to_radians();
-        let (left, forward) = (
-            DVec2::new(yaw.cos(), -yaw.sin()),
-            DVec2::new(yaw.sin(), yaw.cos()),
-        );
-        self.stance
-            .feet_cm()
-            .map(|o| self.center_cm + o.x * left + o.y * forward)
+        let (left, forward) = (DVec2::new(yaw.cos(), -yaw.sin()), DVec2::new(yaw.sin(), yaw.cos()));
+        self.stance.feet_cm().map(|o| self.center_cm + o.x * left + o.y * forward)
     }
 }
 
@@ -312,10 +302,7 @@ fn kata() -> Vec<Key> {
         key(Natural, 12.0, 60.0, 270.0, none, 0.3),
         // Both feet move: the right first, so the left's long step back does
         // not cross it.
-        Key {
-            lead: RIGHT,
-            ..key(Natural, 0.0, 0.0, 360.0, none, 1.5)
-        },
+        Key { lead: RIGHT, ..key(Natural, 0.0, 0.0, 360.0, none, 1.5) },
     ]
 }
 
@@ -432,13 +419,8 @@ fn hips_cm(t: &Targets) -> DVec3 {
     let height_cm = [LEFT, RIGHT]
         .map(|foot| {
             let hip = mid + yaw(t.heading_deg) * hip_offset_cm(foot);
-            let horizontal_cm = (hip - t.ankle_cm[foot])
-                .with_y(0.0)
-                .length()
-                .min(0.99 * reach_cm);
-            t.ankle_cm[foot].y
-                + HIP_DROP_CM
-                + (reach_cm * reach_cm - horizontal_cm * horizontal_cm).sqrt()
+            let horizontal_cm = (hip - t.ankle_cm[foot]).with_y(0.0).length().min(0.99 * reach_cm);
+            t.ankle_cm[foot].y + HIP_DROP_CM + (reach_cm * reach_cm - horizontal_cm * horizontal_cm).sqrt()
         })
         .into_iter()
         .fold(f64::INFINITY, f64::min);
@@ -465,10 +447,7 @@ fn leg_ik(hip_cm: DVec3, ankle_cm: DVec3, forward: DVec3) -> [DMat3; 2] {
         .clamp(-1.0, 1.0);
     let sin_hip = (1.0 - cos_hip * cos_hip).sqrt();
     let knee_cm = hip_cm + THIGH_CM * (cos_hip * along + sin_hip * toward_knee);
-    [
-        bone_frame(knee_cm - hip_cm, toward_knee),
-        bone_frame(ankle_cm - knee_cm, toward_knee),
-    ]
+    [bone_frame(knee_cm - hip_cm, toward_knee), bone_frame(ankle_cm - knee_cm, toward_knee)]
 }
 
 /// The rotation taking a rest bone (along -Y, front +Z) to point along `bone`
@@ -493,10 +472,7 @@ fn zyx_degrees(m: DMat3) -> [f64; 3] {
 /// the fist chambered at the waist (arm down, elbow bent forward) to the arm
 /// straight out in front at shoulder height.
 fn left_arm_zyx_degrees(punch: f64) -> [[f64; 3]; 2] {
-    [
-        [lerp(-75.0, 0.0, punch), lerp(-15.0, -90.0, punch), 0.0],
-        [0.0, lerp(-80.0, 0.0, punch), 0.0],
-    ]
+    [[lerp(-75.0, 0.0, punch), lerp(-15.0, -90.0, punch), 0.0], [0.0, lerp(-80.0, 0.0, punch), 0.0]]
 }
 
 /// Writes one frame's channel values and returns the hips position.
@@ -537,14 +513,10 @@ fn accelerometer_g(positions_cm: &[DVec3], rng: &mut XorShift64) -> Vec<DVec3> {
     let n = positions_cm.len();
     (0..n)
         .map(|f| {
-            let (prev, next) = (
-                positions_cm[f.saturating_sub(1)],
-                positions_cm[(f + 1).min(n - 1)],
-            );
+            let (prev, next) = (positions_cm[f.saturating_sub(1)], positions_cm[(f + 1).min(n - 1)]);
             let accel_cm_s2 = (prev - 2.0 * positions_cm[f] + next) * (DEMO_FPS * DEMO_FPS);
             let noise = DVec3::new(rng.symmetric(), rng.symmetric(), rng.symmetric()) * NOISE_G;
-            (accel_cm_s2 + DVec3::Y * STANDARD_GRAVITY_CM_PER_S2) / STANDARD_GRAVITY_CM_PER_S2
-                + noise
+            (accel_cm_s2 + DVec3::Y * STANDARD_GRAVITY_CM_PER_S2) / STANDARD_GRAVITY_CM_PER_S2 + noise
         })
         .collect()
 }

@@ -18,20 +18,12 @@ pub struct Error {
 impl Error {
     /// An error at a place in a text file.
     pub fn at(file: &str, line: usize, column: usize, message: impl Into<String>) -> Self {
-        Error {
-            file: file.to_string(),
-            line_column: Some((line, column)),
-            message: message.into(),
-        }
+        Error { file: file.to_string(), line_column: Some((line, column)), message: message.into() }
     }
 
     /// An error about a whole file (or input), with no position.
     pub fn whole(file: &str, message: impl Into<String>) -> Self {
-        Error {
-            file: file.to_string(),
-            line_column: None,
-            message: message.into(),
-        }
+        Error { file: file.to_string(), line_column: None, message: message.into() }
     }
 }
 
@@ -55,9 +47,6 @@ pub fn line_column_of(text: &[u8], offset: usize) -> (usize, usize) {
     let offset = offset.min(text.len());
     let before = &text[..offset];
     let line = 1 + before.iter().filter(|&&b| b == b'\n').count();
-    let line_start = before
-        .iter()
-        .rposition(|&b| b == b'\n')
-        .map_or(0, |p| p + 1);
+    let line_start = before.iter().rposition(|&b| b == b'\n').map_or(0, |p| p + 1);
     (line, offset - line_start + 1)
 }

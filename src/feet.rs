@@ -29,10 +29,7 @@ impl Feet {
 /// `mixamorig:LeftFoot` and `LeftFoot` compare alike.
 fn normalise(name: &str) -> String {
     let base = name.rsplit([':', '|']).next().unwrap_or(name);
-    base.chars()
-        .filter(|c| c.is_ascii_alphanumeric())
-        .map(|c| c.to_ascii_lowercase())
-        .collect()
+    base.chars().filter(|c| c.is_ascii_alphanumeric()).map(|c| c.to_ascii_lowercase()).collect()
 }
 
 /// Spellings of the foot joints, normalised, best first. Ankles come after
@@ -61,14 +58,9 @@ pub fn detect_feet(joint_names: &[String]) -> Option<Feet> {
 }
 
 /// The feet named by the user, or detected when `left`/`right` are `None`.
-pub fn resolve_feet(
-    joint_names: &[String],
-    left: Option<&str>,
-    right: Option<&str>,
-) -> Result<Feet, String> {
+pub fn resolve_feet(joint_names: &[String], left: Option<&str>, right: Option<&str>) -> Result<Feet, String> {
     let detected = detect_feet(joint_names);
-    let pick = |name: Option<&str>, side: &str, fallback: Option<usize>| {
-        match name {
+    let pick = |name: Option<&str>, side: &str, fallback: Option<usize>| match name {
         Some(n) => joint_names
             .iter()
             .position(|j| j == n)
@@ -79,7 +71,6 @@ pub fn resolve_feet(
                 joint_names.join(", ")
             )
         }),
-    }
     };
     Ok(Feet {
         left: pick(left, "left", detected.map(|f| f.left))?,
@@ -106,23 +97,13 @@ mod tests {
             ("foot.l", "foot.r"),
         ] {
             let s = skeleton_named(&["Hips", l, r]);
-            assert_eq!(
-                detect_feet(&s),
-                Some(Feet { left: 1, right: 2 }),
-                "{l} / {r}"
-            );
+            assert_eq!(detect_feet(&s), Some(Feet { left: 1, right: 2 }), "{l} / {r}");
         }
     }
 
     #[test]
     fn prefers_foot_over_toe() {
-        let s = skeleton_named(&[
-            "Hips",
-            "LeftToeBase",
-            "RightToeBase",
-            "LeftFoot",
-            "RightFoot",
-        ]);
+        let s = skeleton_named(&["Hips", "LeftToeBase", "RightToeBase", "LeftFoot", "RightFoot"]);
         assert_eq!(detect_feet(&s), Some(Feet { left: 3, right: 4 }));
     }
 
@@ -130,19 +111,8 @@ mod tests {
     fn override_and_missing() {
         let s = skeleton_named(&["Hips", "A", "B"]);
         assert!(detect_feet(&s).is_none());
-        assert_eq!(
-            resolve_feet(&s, Some("A"), Some("B")),
-            Ok(Feet { left: 1, right: 2 })
-        );
-        assert!(
-            resolve_feet(&s, None, None)
-                .unwrap_err()
-                .contains("--left-foot")
-        );
-        assert!(
-            resolve_feet(&s, Some("Z"), Some("B"))
-                .unwrap_err()
-                .contains("`Z`")
-        );
+        assert_eq!(resolve_feet(&s, Some("A"), Some("B")), Ok(Feet { left: 1, right: 2 }));
+        assert!(resolve_feet(&s, None, None).unwrap_err().contains("--left-foot"));
+        assert!(resolve_feet(&s, Some("Z"), Some("B")).unwrap_err().contains("`Z`"));
     }
 }

@@ -61,18 +61,12 @@ pub fn forward_kinematics(skeleton: &Skeleton, motion: &Motion) -> Poses {
                 None => (translation, rotation),
                 Some(p) => {
                     let parent_rot = world_from_joint_rot[p];
-                    (
-                        positions_cm[frame_start + p] + parent_rot * translation,
-                        parent_rot * rotation,
-                    )
+                    (positions_cm[frame_start + p] + parent_rot * translation, parent_rot * rotation)
                 }
             };
             world_from_joint_rot[j] = world_rot;
             positions_cm.push(point_in_world);
         }
     }
-    Poses {
-        joint_count,
-        positions_cm,
-    }
+    Poses { joint_count, positions_cm }
 }

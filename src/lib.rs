@@ -6,6 +6,7 @@
 //! - [`kinematics`] turns channels into global joint positions ([`skeleton::Poses`]),
 //! - [`signals`] smooths and differentiates per-frame signals,
 //! - [`paper`] is Hachaj & Ogiela's translation method,
+//! - [`metrics`] measures floor paths (length, error, closure),
 //! - [`recording`] ties a file to the method and writes the result back,
 //! - [`demo`] generates the built-in synthetic recording.
 
@@ -14,6 +15,7 @@ pub mod demo;
 pub mod error;
 pub mod feet;
 pub mod kinematics;
+pub mod metrics;
 pub mod paper;
 pub mod recording;
 pub mod signals;

@@ -117,9 +117,7 @@ pub fn paper_translation(
     check_inputs(poses, feet, foot_accel_g, fps, params)?;
     let paths = [poses.trajectory(feet.left), poses.trajectory(feet.right)];
     if let Some(f) = (0..n).find(|&f| !(paths[0][f].is_finite() && paths[1][f].is_finite())) {
-        return Err(format!(
-            "a foot position in frame {f} is not a finite number"
-        ));
+        return Err(format!("a foot position in frame {f} is not a finite number"));
     }
 
     let mut warnings = Vec::new();
@@ -154,13 +152,8 @@ pub fn paper_translation(
     let shift1 = pin_shifts(&paths, &zero, &pass1_pinned);
 
     // Pass 2: pin the lower foot, judged on the heights after pass 1.
-    let heights = [0, 1].map(|side| {
-        paths[side]
-            .iter()
-            .zip(&shift1)
-            .map(|(p, s)| p.y + s.y)
-            .collect::<Vec<f64>>()
-    });
+    let heights =
+        [0, 1].map(|side| paths[side].iter().zip(&shift1).map(|(p, s)| p.y + s.y).collect::<Vec<f64>>());
     let heights_smoothed_cm = [smooth(&heights[0])?, smooth(&heights[1])?];
     let pass2_pinned = pinned_feet(&heights_smoothed_cm, Some(params.dy_eps_cm));
     let shift2 = pin_shifts(&paths, &shift1, &pass2_pinned);
@@ -175,11 +168,7 @@ pub fn paper_translation(
     let mut shift_cm = Vec::with_capacity(n);
     for f in 0..n {
         // `>=`: where both smoothed heights are 0 (R's tails) the left foot is grounded.
-        let foot = if right_z[f] >= left_z[f] {
-            Foot::Left
-        } else {
-            Foot::Right
-        };
+        let foot = if right_z[f] >= left_z[f] { Foot::Left } else { Foot::Right };
         let foot_y_cm = paths[foot_index(foot)][f].y + total[f].y;
         let dy_cm = -(foot_y_cm - ground_cm);
         ground_foot.push(foot);
@@ -224,31 +213,20 @@ fn check_inputs(
             ));
         }
         if let Some(f) = accel.iter().position(|a| !a.is_finite()) {
-            return Err(format!(
-                "the {side}-foot acceleration in frame {f} is not a finite number"
-            ));
+            return Err(format!("the {side}-foot acceleration in frame {f} is not a finite number"));
         }
     }
     if !(fps.is_finite() && fps > 0.0) {
         return Err(format!("expected a positive frame rate, found {fps} fps"));
     }
     if !(params.window_s.is_finite() && params.window_s > 0.0) {
-        return Err(format!(
-            "expected a positive smoothing window, found {} s",
-            params.window_s
-        ));
+        return Err(format!("expected a positive smoothing window, found {} s", params.window_s));
     }
     if !(params.alpha.is_finite() && params.alpha > 0.0) {
-        return Err(format!(
-            "expected a positive Gaussian alpha, found {}",
-            params.alpha
-        ));
+        return Err(format!("expected a positive Gaussian alpha, found {}", params.alpha));
     }
     if !params.dy_eps_cm.is_finite() {
-        return Err(format!(
-            "expected a finite height threshold, found {} cm",
-            params.dy_eps_cm
-        ));
+        return Err(format!("expected a finite height threshold, found {} cm", params.dy_eps_cm));
     }
     if let Some(g) = params.ground_cm.filter(|g| !g.is_finite()) {
         return Err(format!("expected a finite ground height, found {g} cm"));
@@ -338,10 +316,7 @@ mod tests {
             let (l, r) = (left(f), right(f));
             positions_cm.extend([l, r, (l + r) / 2.0 + DVec3::new(0.0, 90.0, 0.0)]);
         }
-        Poses {
-            joint_count: 3,
-            positions_cm,
-        }
+        Poses { joint_count: 3, positions_cm }
     }
 
     const FEET: Feet = Feet { left: 0, right: 1 };
@@ -355,16 +330,9 @@ mod tests {
         let poses = walk(n, drift, |f| drift(f) + DVec3::new(20.0, 10.0, 0.0));
         let left = vec![1.0; n];
         let right = vec![1.5; n];
-        let params = PaperParams {
-            smoothing: Smoothing::Clean,
-            ..Default::default()
-        };
+        let params = PaperParams { smoothing: Smoothing::Clean, ..Default::default() };
         let result = paper_translation(&poses, FEET, [&left, &right], 100.0, &params).unwrap();
-        assert!(
-            result.pass1_pinned[1..]
-                .iter()
-                .all(|&p| p == Some(Foot::Left))
-        );
+        assert!(result.pass1_pinned[1..].iter().all(|&p| p == Some(Foot::Left)));
         let moved = poses.shifted(&result.shift_cm);
         for f in 0..n {
             assert!((moved.at(f, 0) - moved.at(0, 0)).length() < 1e-9);
@@ -378,27 +346,13 @@ mod tests {
     #[test]
     fn faithful_mode_leaves_the_tails_unpinned() {
         let n = 300;
-        let poses = walk(
-            n,
-            |f| DVec3::new(f as f64, 0.0, 0.0),
-            |_| DVec3::new(0.0, 10.0, 0.0),
-        );
+        let poses = walk(n, |f| DVec3::new(f as f64, 0.0, 0.0), |_| DVec3::new(0.0, 10.0, 0.0));
         let left = vec![1.0; n];
         let right = vec![1.5; n];
-        let result = paper_translation(
-            &poses,
-            FEET,
-            [&left, &right],
-            100.0,
-            &PaperParams::default(),
-        )
-        .unwrap();
+        let result =
+            paper_translation(&poses, FEET, [&left, &right], 100.0, &PaperParams::default()).unwrap();
         assert!(result.pass1_pinned[..51].iter().all(Option::is_none));
-        assert!(
-            result.pass1_pinned[51..250]
-                .iter()
-                .all(|&p| p == Some(Foot::Left))
-        );
+        assert!(result.pass1_pinned[51..250].iter().all(|&p| p == Some(Foot::Left)));
         assert!(result.pass1_pinned[250..].iter().all(Option::is_none));
         assert_eq!(result.accel_smoothed_g[0][0], 0.0);
     }
@@ -410,9 +364,7 @@ mod tests {
         let ok = vec![1.0; n];
         let p = PaperParams::default();
         assert!(paper_translation(&poses, FEET, [&ok, &ok[1..]], 100.0, &p).is_err());
-        assert!(
-            paper_translation(&poses, Feet { left: 0, right: 7 }, [&ok, &ok], 100.0, &p).is_err()
-        );
+        assert!(paper_translation(&poses, Feet { left: 0, right: 7 }, [&ok, &ok], 100.0, &p).is_err());
         let mut nan = ok.clone();
         nan[5] = f64::NAN;
         assert!(paper_translation(&poses, FEET, [&ok, &nan], 100.0, &p).is_err());
@@ -420,17 +372,10 @@ mod tests {
         // 300 frames at 400 fps is shorter than the 400-frame window: the
         // window is halved to fit, and the result says so.
         let short = paper_translation(&poses, FEET, [&ok, &ok], 400.0, &p).unwrap();
-        assert!(
-            short.warnings[0].contains("using 150 frames"),
-            "{:?}",
-            short.warnings
-        );
+        assert!(short.warnings[0].contains("using 150 frames"), "{:?}", short.warnings);
         let three = walk(3, |_| DVec3::ZERO, |_| DVec3::ZERO);
         assert!(paper_translation(&three, FEET, [&ok[..3], &ok[..3]], 100.0, &p).is_err());
-        let clean = PaperParams {
-            smoothing: Smoothing::Clean,
-            ..p
-        };
+        let clean = PaperParams { smoothing: Smoothing::Clean, ..p };
         assert!(paper_translation(&poses, FEET, [&ok, &ok], 400.0, &clean).is_ok());
         let mut bad_pose = poses.clone();
         bad_pose.positions_cm[3] = DVec3::new(f64::INFINITY, 0.0, 0.0);

@@ -83,10 +83,7 @@ pub struct Translated {
 
 /// True when the bytes look like a BVH file rather than a CSV table.
 pub fn looks_like_bvh(bytes: &[u8]) -> bool {
-    let start = bytes
-        .iter()
-        .position(|b| !b.is_ascii_whitespace())
-        .unwrap_or(bytes.len());
+    let start = bytes.iter().position(|b| !b.is_ascii_whitespace()).unwrap_or(bytes.len());
     bytes[start..].len() >= 9 && bytes[start..start + 9].eq_ignore_ascii_case(b"HIERARCHY")
 }
 
@@ -119,10 +116,7 @@ impl Recording {
 
     pub fn from_table(table: Table, name: &str, fps: Option<f64>) -> Result<Recording, Error> {
         if table.joint_names.is_empty() {
-            return Err(Error::whole(
-                name,
-                "the table has no `<Joint>.Dx/.Dy/.Dz` position columns",
-            ));
+            return Err(Error::whole(name, "the table has no `<Joint>.Dx/.Dy/.Dz` position columns"));
         }
         let mut warnings = table.warnings.clone();
         let fps = match (table.frame_time_s(), fps) {
@@ -176,12 +170,8 @@ impl Recording {
 
     /// The feet, detected or as chosen.
     pub fn feet(&self, choice: &FeetChoice) -> Result<Feet, Error> {
-        resolve_feet(
-            &self.joint_names,
-            choice.left.as_deref(),
-            choice.right.as_deref(),
-        )
-        .map_err(|message| Error::whole(&self.name, message))
+        resolve_feet(&self.joint_names, choice.left.as_deref(), choice.right.as_deref())
+            .map_err(|message| Error::whole(&self.name, message))
     }
 
     /// Acceleration magnitudes of the two feet in g, `[left, right]`: from the
@@ -195,10 +185,7 @@ impl Recording {
         {
             return (
                 [magnitudes(l), magnitudes(r)],
-                AccelSource::Accelerometer {
-                    left: left_name.clone(),
-                    right: right_name.clone(),
-                },
+                AccelSource::Accelerometer { left: left_name.clone(), right: right_name.clone() },
             );
         }
         // The root's own motion is the vendor's translation guess; remove it so
@@ -206,9 +193,7 @@ impl Recording {
         let root = self.poses.trajectory(0);
         let relative = |foot: Foot| -> Vec<DVec3> {
             let joint = feet.joint(foot);
-            (0..self.frame_count())
-                .map(|f| self.poses.at(f, joint) - root[f])
-                .collect()
+            (0..self.frame_count()).map(|f| self.poses.at(f, joint) - root[f]).collect()
         };
         (
             [
@@ -220,11 +205,7 @@ impl Recording {
     }
 
     /// Runs the paper's method.
-    pub fn translate_paper(
-        &self,
-        feet: &FeetChoice,
-        params: &PaperParams,
-    ) -> Result<Translated, Error> {
+    pub fn translate_paper(&self, feet: &FeetChoice, params: &PaperParams) -> Result<Translated, Error> {
         let feet = self.feet(feet)?;
         let ([left, right], accel_source) = self.foot_accel_g(feet);
         let paper = paper_translation(&self.poses, feet, [&left, &right], self.fps, params)

@@ -62,9 +62,7 @@ pub fn r_window_length(len: usize, window: f64) -> Result<usize, String> {
     // R's `max` propagates NaN (and then fails); Rust's `f64::max` would drop it.
     let w = if w.is_nan() { w } else { w.abs().max(1.0) };
     if !w.is_finite() || w >= i32::MAX as f64 {
-        return Err(format!(
-            "smoothing window {window} gives no usable window length"
-        ));
+        return Err(format!("smoothing window {window} gives no usable window length"));
     }
     let window_len = w as usize;
     if len <= window_len {
@@ -99,10 +97,7 @@ pub fn smooth_r_gaussian(x: &[f64], window_fraction: f64, alpha: f64) -> Result<
     for (i, y) in out.iter_mut().enumerate().take(n - right).skip(left) {
         let data = &x[i - left..i - left + window_len];
         // Sequential sum, as R's `%*%` (BLAS dgemv) on a 1-row matrix.
-        *y = data
-            .iter()
-            .zip(&kernel)
-            .fold(0.0, |acc, (d, k)| acc + d * k);
+        *y = data.iter().zip(&kernel).fold(0.0, |acc, (d, k)| acc + d * k);
     }
     if left == 0 {
         out[0] = 0.0;
@@ -145,11 +140,7 @@ pub fn smooth_gaussian_clean(x: &[f64], window_samples: f64, alpha: f64) -> Vec<
             let weights = &kernel[k_start..k_end];
             let data = &x[first_sample..first_sample + weights.len()];
             let dot: f64 = data.iter().zip(weights).map(|(d, w)| d * w).sum();
-            if weights.len() == kernel.len() {
-                dot / full_sum
-            } else {
-                dot / weights.iter().sum::<f64>()
-            }
+            if weights.len() == kernel.len() { dot / full_sum } else { dot / weights.iter().sum::<f64>() }
         })
         .collect()
 }
@@ -251,10 +242,7 @@ mod tests {
         // A fraction of exactly 1 is taken as a count of 1 sample (R's rule);
         // R's `1:0` then blanks the first sample as well as the last.
         let x = [4.0, 5.0, 6.0, 7.0];
-        assert_eq!(
-            smooth_r_gaussian(&x, 1.0, 2.5),
-            Ok(vec![0.0, 5.0, 6.0, 0.0])
-        );
+        assert_eq!(smooth_r_gaussian(&x, 1.0, 2.5), Ok(vec![0.0, 5.0, 6.0, 0.0]));
     }
 
     #[test]
@@ -271,10 +259,7 @@ mod tests {
         assert_eq!(smooth_gaussian_clean(&x, 1.0, 2.5), x);
         assert_eq!(smooth_gaussian_clean(&x, 100.0, 0.0), x);
         // A window longer than the signal still works.
-        assert_eq!(
-            smooth_gaussian_clean(&[1.0, 1.0, 1.0], 100.0, 2.5),
-            vec![1.0; 3]
-        );
+        assert_eq!(smooth_gaussian_clean(&[1.0, 1.0, 1.0], 100.0, 2.5), vec![1.0; 3]);
     }
 
     #[test]
@@ -299,8 +284,8 @@ mod tests {
             })
             .collect();
         let m = kinematic_accel_magnitude_g(&p, fps);
-        let expected = (a + DVec3::new(0.0, STANDARD_GRAVITY_CM_PER_S2, 0.0)).length()
-            / STANDARD_GRAVITY_CM_PER_S2;
+        let expected =
+            (a + DVec3::new(0.0, STANDARD_GRAVITY_CM_PER_S2, 0.0)).length() / STANDARD_GRAVITY_CM_PER_S2;
         for v in m {
             assert!((v - expected).abs() < 1e-9, "{v} vs {expected}");
         }
@@ -309,20 +294,13 @@ mod tests {
     #[test]
     fn at_rest_reads_one_g() {
         let p = vec![DVec3::new(5.0, 7.0, -1.0); 6];
-        assert!(
-            kinematic_accel_magnitude_g(&p, 100.0)
-                .iter()
-                .all(|&v| v == 1.0)
-        );
+        assert!(kinematic_accel_magnitude_g(&p, 100.0).iter().all(|&v| v == 1.0));
         assert_eq!(kinematic_accel_magnitude_g(&p[..2], 100.0), vec![1.0, 1.0]);
         assert!(kinematic_accel_magnitude_g(&[], 100.0).is_empty());
     }
 
     #[test]
     fn magnitudes_are_lengths() {
-        assert_eq!(
-            magnitudes(&[DVec3::new(3.0, 4.0, 0.0), DVec3::ZERO]),
-            vec![5.0, 0.0]
-        );
+        assert_eq!(magnitudes(&[DVec3::new(3.0, 4.0, 0.0), DVec3::ZERO]), vec![5.0, 0.0]);
     }
 }

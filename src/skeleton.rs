@@ -39,8 +39,7 @@ impl Channel {
             Channel::Yrotation,
             Channel::Zrotation,
         ];
-        ALL.into_iter()
-            .find(|c| c.name().eq_ignore_ascii_case(word))
+        ALL.into_iter().find(|c| c.name().eq_ignore_ascii_case(word))
     }
 
     /// The axis index (0 = X, 1 = Y, 2 = Z).
@@ -53,10 +52,7 @@ impl Channel {
     }
 
     pub fn is_position(self) -> bool {
-        matches!(
-            self,
-            Channel::Xposition | Channel::Yposition | Channel::Zposition
-        )
+        matches!(self, Channel::Xposition | Channel::Yposition | Channel::Zposition)
     }
 }
 
@@ -133,10 +129,7 @@ pub struct Motion {
 
 impl Motion {
     pub fn frame_count(&self) -> usize {
-        self.values
-            .len()
-            .checked_div(self.channel_count)
-            .unwrap_or(0)
+        self.values.len().checked_div(self.channel_count).unwrap_or(0)
     }
 
     pub fn frame(&self, f: usize) -> &[f64] {
@@ -163,10 +156,7 @@ pub struct Poses {
 
 impl Poses {
     pub fn frame_count(&self) -> usize {
-        self.positions_cm
-            .len()
-            .checked_div(self.joint_count)
-            .unwrap_or(0)
+        self.positions_cm.len().checked_div(self.joint_count).unwrap_or(0)
     }
 
     pub fn frame(&self, f: usize) -> &[DVec3] {
@@ -187,11 +177,7 @@ impl Poses {
     /// method's result is applied to global positions.
     pub fn shifted(&self, shift_cm: &[DVec3]) -> Poses {
         let mut out = self.clone();
-        for (f, frame) in out
-            .positions_cm
-            .chunks_mut(self.joint_count.max(1))
-            .enumerate()
-        {
+        for (f, frame) in out.positions_cm.chunks_mut(self.joint_count.max(1)).enumerate() {
             for p in frame {
                 *p += shift_cm[f];
             }

@@ -123,12 +123,7 @@ fn read_record(located: &Located, mut pos: usize, fields: &mut Vec<Field>) -> Re
                 }
             };
             pos = close + 1;
-            fields.push(Field {
-                start,
-                end: pos,
-                content: (start + 1, close),
-                quoted: true,
-            });
+            fields.push(Field { start, end: pos, content: (start + 1, close), quoted: true });
             match text.get(pos) {
                 Some(b',') => pos += 1,
                 None | Some(b'\n') => return Ok(past_line_end(text, pos)),
@@ -136,28 +131,18 @@ fn read_record(located: &Located, mut pos: usize, fields: &mut Vec<Field>) -> Re
                     return Ok(past_line_end(text, pos));
                 }
                 Some(_) => {
-                    return Err(located.at(
-                        pos,
-                        "expected `,` or the end of the line after a closing `\"`",
-                    ));
+                    return Err(located.at(pos, "expected `,` or the end of the line after a closing `\"`"));
                 }
             }
         } else {
-            let stop = text[pos..]
-                .iter()
-                .position(|&b| b == b',' || b == b'\n')
-                .map_or(text.len(), |p| pos + p);
+            let stop =
+                text[pos..].iter().position(|&b| b == b',' || b == b'\n').map_or(text.len(), |p| pos + p);
             let at_comma = text.get(stop) == Some(&b',');
             let mut end = stop;
             if !at_comma && end > start && text[end - 1] == b'\r' {
                 end -= 1;
             }
-            fields.push(Field {
-                start,
-                end,
-                content: (start, end),
-                quoted: false,
-            });
+            fields.push(Field { start, end, content: (start, end), quoted: false });
             if at_comma {
                 pos = stop + 1;
             } else {
@@ -171,17 +156,9 @@ fn read_record(located: &Located, mut pos: usize, fields: &mut Vec<Field>) -> Re
 /// surrounding blanks of unquoted names trimmed.
 fn header_name(located: &Located, field: &Field) -> Result<String, Error> {
     let raw = &located.text[field.content.0..field.content.1];
-    let name = std::str::from_utf8(raw).map_err(|e| {
-        located.at(
-            field.content.0 + e.valid_up_to(),
-            "expected a UTF-8 column name",
-        )
-    })?;
-    Ok(if field.quoted {
-        name.replace("\"\"", "\"")
-    } else {
-        name.trim_matches([' ', '\t']).to_string()
-    })
+    let name = std::str::from_utf8(raw)
+        .map_err(|e| located.at(field.content.0 + e.valid_up_to(), "expected a UTF-8 column name"))?;
+    Ok(if field.quoted { name.replace("\"\"", "\"") } else { name.trim_matches([' ', '\t']).to_string() })
 }
 
 /// The number in one data field.
@@ -199,31 +176,22 @@ fn parse_number(located: &Located, field: &Field) -> Result<f64, Error> {
         return Err(located.at(field.start, "expected a number, found an empty field"));
     }
     if bytes == b"NA" {
-        return Err(located.at(
-            start,
-            "expected a number, found `NA` (a missing value): every frame needs every value",
-        ));
+        return Err(located
+            .at(start, "expected a number, found `NA` (a missing value): every frame needs every value"));
     }
     match fast_float2::parse_partial::<f64, _>(bytes) {
         Ok((value, used)) if used == bytes.len() => {
             if value.is_finite() {
                 Ok(value)
             } else {
-                Err(located.at(
-                    start,
-                    format!("expected a finite number, found `{}`", excerpt(bytes)),
-                ))
+                Err(located.at(start, format!("expected a finite number, found `{}`", excerpt(bytes))))
             }
         }
         // Point at the first byte that is not part of the number.
-        Ok((_, used)) => Err(located.at(
-            start + used,
-            format!("expected a number, found `{}`", excerpt(bytes)),
-        )),
-        Err(_) => Err(located.at(
-            start,
-            format!("expected a number, found `{}`", excerpt(bytes)),
-        )),
+        Ok((_, used)) => {
+            Err(located.at(start + used, format!("expected a number, found `{}`", excerpt(bytes))))
+        }
+        Err(_) => Err(located.at(start, format!("expected a number, found `{}`", excerpt(bytes)))),
     }
 }
 
@@ -259,14 +227,9 @@ fn triples(headers: &[String], suffixes: [&str; 3]) -> (Vec<String>, Vec<[usize;
             names.push(name.to_string());
             columns.push([x, y, z]);
         } else {
-            let missing: Vec<String> = (0..3)
-                .filter(|&a| found[a].is_none())
-                .map(|a| format!("{name}.{}", suffixes[a]))
-                .collect();
-            warnings.push(format!(
-                "`{name}` is ignored: it has no {} column",
-                missing.join(" or ")
-            ));
+            let missing: Vec<String> =
+                (0..3).filter(|&a| found[a].is_none()).map(|a| format!("{name}.{}", suffixes[a])).collect();
+            warnings.push(format!("`{name}` is ignored: it has no {} column", missing.join(" or ")));
         }
     }
     (names, columns, warnings)
@@ -274,10 +237,7 @@ fn triples(headers: &[String], suffixes: [&str; 3]) -> (Vec<String>, Vec<[usize;
 
 /// Quotes a column name for writing when CSV needs it to.
 fn csv_name(name: &str) -> String {
-    if name.contains([',', '"', '\n', '\r'])
-        || name.starts_with([' ', '\t'])
-        || name.ends_with([' ', '\t'])
-    {
+    if name.contains([',', '"', '\n', '\r']) || name.starts_with([' ', '\t']) || name.ends_with([' ', '\t']) {
         format!("\"{}\"", name.replace('"', "\"\""))
     } else {
         name.to_string()
@@ -293,19 +253,12 @@ impl Table {
     /// header with no rows under it.
     pub fn parse(text: &[u8], file: &str) -> Result<Table, Error> {
         let located = Located { text, file };
-        let mut pos = if text.starts_with(b"\xEF\xBB\xBF") {
-            3
-        } else {
-            0
-        };
+        let mut pos = if text.starts_with(b"\xEF\xBB\xBF") { 3 } else { 0 };
         while pos < text.len() && is_blank_line(text, pos) {
             pos = past_line_end(text, pos);
         }
         if pos >= text.len() {
-            return Err(located.at(
-                pos,
-                "the file is empty: expected a header row of column names",
-            ));
+            return Err(located.at(pos, "the file is empty: expected a header row of column names"));
         }
 
         let mut fields = Vec::new();
@@ -316,9 +269,7 @@ impl Table {
         // R's write.csv writes row names as an unnamed first column.
         let row_numbers = first_name.is_empty() && header_fields.len() > 1;
         if row_numbers {
-            warnings.push(
-                "the first column has no name: taken as R's row numbers and dropped".to_string(),
-            );
+            warnings.push("the first column has no name: taken as R's row numbers and dropped".to_string());
         }
         let skip = usize::from(row_numbers);
         let mut headers: Vec<String> = Vec::with_capacity(header_fields.len() - skip);
@@ -353,42 +304,27 @@ impl Table {
                 } else {
                     fields[field_count].start
                 };
-                return Err(located.at(
-                    offset,
-                    format!("expected {field_count} fields, found {}", fields.len()),
-                ));
+                return Err(
+                    located.at(offset, format!("expected {field_count} fields, found {}", fields.len()))
+                );
             }
             for field in &fields[skip..] {
                 values.push(parse_number(&located, field)?);
             }
         }
         if values.is_empty() {
-            return Err(located.at(
-                header_end,
-                "expected rows of numbers after the header, found none",
-            ));
+            return Err(located.at(header_end, "expected rows of numbers after the header, found none"));
         }
 
-        let (joint_names, position_columns, position_warnings) =
-            triples(&headers, ["Dx", "Dy", "Dz"]);
+        let (joint_names, position_columns, position_warnings) = triples(&headers, ["Dx", "Dy", "Dz"]);
         warnings.extend(position_warnings);
         let (_, _, accel_warnings) = triples(&headers, ["ax", "ay", "az"]);
         warnings.extend(accel_warnings);
-        Ok(Table {
-            file: file.to_string(),
-            headers,
-            values,
-            joint_names,
-            position_columns,
-            warnings,
-        })
+        Ok(Table { file: file.to_string(), headers, values, joint_names, position_columns, warnings })
     }
 
     pub fn frame_count(&self) -> usize {
-        self.values
-            .len()
-            .checked_div(self.headers.len())
-            .unwrap_or(0)
+        self.values.len().checked_div(self.headers.len()).unwrap_or(0)
     }
 
     /// Frame `f`'s values, one per header.
@@ -413,11 +349,7 @@ impl Table {
         }
         steps.sort_by(f64::total_cmp);
         let mid = steps.len() / 2;
-        Some(if steps.len() % 2 == 1 {
-            steps[mid]
-        } else {
-            0.5 * (steps[mid - 1] + steps[mid])
-        })
+        Some(if steps.len() % 2 == 1 { steps[mid] } else { 0.5 * (steps[mid - 1] + steps[mid]) })
     }
 
     /// Global positions of the joints in `joint_names`, in that order.
@@ -426,29 +358,16 @@ impl Table {
         let mut positions_cm = Vec::with_capacity(frame_count * self.position_columns.len());
         for f in 0..frame_count {
             let row = self.row(f);
-            positions_cm.extend(
-                self.position_columns
-                    .iter()
-                    .map(|&[x, y, z]| DVec3::new(row[x], row[y], row[z])),
-            );
+            positions_cm
+                .extend(self.position_columns.iter().map(|&[x, y, z]| DVec3::new(row[x], row[y], row[z])));
         }
-        Poses {
-            joint_count: self.position_columns.len(),
-            positions_cm,
-        }
+        Poses { joint_count: self.position_columns.len(), positions_cm }
     }
 
     /// The values of the column called `name`, one per frame.
     pub fn column(&self, name: &str) -> Option<Vec<f64>> {
         let c = self.column_index(name)?;
-        Some(
-            self.values
-                .iter()
-                .skip(c)
-                .step_by(self.headers.len())
-                .copied()
-                .collect(),
-        )
+        Some(self.values.iter().skip(c).step_by(self.headers.len()).copied().collect())
     }
 
     /// `<sensor>.ax/.ay/.az` per frame, in g; `None` unless all three exist.
@@ -517,10 +436,7 @@ impl Accelerations {
     pub fn parse(text: &[u8], file: &str) -> Result<Self, Error> {
         let accelerations = Accelerations::from_table(&Table::parse(text, file)?);
         if accelerations.sensor_names.is_empty() {
-            return Err(Error::whole(
-                file,
-                "expected `<Sensor>.ax`, `.ay` and `.az` columns, found none",
-            ));
+            return Err(Error::whole(file, "expected `<Sensor>.ax`, `.ay` and `.az` columns, found none"));
         }
         Ok(accelerations)
     }
@@ -539,11 +455,7 @@ impl Accelerations {
                     .collect()
             })
             .collect();
-        Accelerations {
-            file: table.file.clone(),
-            sensor_names,
-            accel_g,
-        }
+        Accelerations { file: table.file.clone(), sensor_names, accel_g }
     }
 
     pub fn frame_count(&self) -> usize {

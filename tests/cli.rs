@@ -9,10 +9,7 @@ use std::process::{Command, Output};
 use embusen::recording::Recording;
 
 fn embusen(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_embusen"))
-        .args(args)
-        .output()
-        .expect("runs embusen")
+    Command::new(env!("CARGO_BIN_EXE_embusen")).args(args).output().expect("runs embusen")
 }
 
 fn text(bytes: &[u8]) -> String {
@@ -29,10 +26,7 @@ fn scratch(name: &str) -> PathBuf {
 
 fn shared_recordings(dir: &Path) -> Vec<PathBuf> {
     let mut files = common::files_with_extension(&dir.join("karate"), "bvh");
-    files.extend(common::files_with_extension(
-        &dir.join("groundtruth"),
-        "bvh",
-    ));
+    files.extend(common::files_with_extension(&dir.join("groundtruth"), "bvh"));
     files.push(dir.join("karate/heian_shodan.csv"));
     files.push(dir.join("karate/heian_shodan.paper-reference.csv"));
     files
@@ -43,21 +37,13 @@ fn no_arguments_runs_the_demo() {
     let out = embusen(&[]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let stdout = text(&out.stdout);
-    assert!(
-        stdout.contains("built-in demo") && stdout.contains("mean horizontal error"),
-        "{stdout}"
-    );
+    assert!(stdout.contains("built-in demo") && stdout.contains("mean horizontal error"), "{stdout}");
 }
 
 #[test]
 fn bad_usage_exits_with_2() {
     assert_eq!(embusen(&["translate"]).status.code(), Some(2));
-    assert_eq!(
-        embusen(&["translate", "x.bvh", "--smoothing", "wobbly"])
-            .status
-            .code(),
-        Some(2)
-    );
+    assert_eq!(embusen(&["translate", "x.bvh", "--smoothing", "wobbly"]).status.code(), Some(2));
     assert_eq!(embusen(&["frobnicate"]).status.code(), Some(2));
 }
 
@@ -69,21 +55,9 @@ fn every_shared_file_opens_with_info() {
     for path in shared_recordings(&dir) {
         let out = embusen(&["info", path.to_str().unwrap()]);
         let stdout = text(&out.stdout);
-        assert!(
-            out.status.success(),
-            "{}: {}",
-            path.display(),
-            text(&out.stderr)
-        );
-        assert!(
-            stdout.contains("frames:") && stdout.contains("feet:"),
-            "{stdout}"
-        );
-        assert!(
-            !stdout.contains("not detected"),
-            "{}: feet not detected",
-            path.display()
-        );
+        assert!(out.status.success(), "{}: {}", path.display(), text(&out.stderr));
+        assert!(stdout.contains("frames:") && stdout.contains("feet:"), "{stdout}");
+        assert!(!stdout.contains("not detected"), "{}: feet not detected", path.display());
         if path.ends_with("mae_geri_left.bvh") {
             assert!(stdout.contains("warning:  Frame Time is 0"), "{stdout}");
         }
@@ -107,28 +81,17 @@ fn every_shared_file_translates() {
         let stem = input.file_stem().unwrap().to_str().unwrap();
         let ext = input.extension().unwrap().to_str().unwrap();
         let written = out_dir.join(format!("{stem}.embusen.{ext}"));
-        let bytes =
-            std::fs::read(&written).unwrap_or_else(|e| panic!("{}: {e}", written.display()));
+        let bytes = std::fs::read(&written).unwrap_or_else(|e| panic!("{}: {e}", written.display()));
         let again = Recording::parse(&bytes, &written.display().to_string(), Some(100.0)).unwrap();
         assert!(again.frame_count() > 10);
-        assert!(
-            summary.contains(stem),
-            "no summary line for {stem}: {summary}"
-        );
+        assert!(summary.contains(stem), "no summary line for {stem}: {summary}");
     }
     // heian_shodan.bvh found its side file; heian_nidan.bvh has none.
     assert!(
-        summary
-            .lines()
-            .any(|l| l.contains("heian_shodan.bvh") && l.contains("accelerometers")),
+        summary.lines().any(|l| l.contains("heian_shodan.bvh") && l.contains("accelerometers")),
         "{summary}"
     );
-    assert!(
-        summary
-            .lines()
-            .any(|l| l.contains("heian_nidan.bvh") && l.contains("kinematics")),
-        "{summary}"
-    );
+    assert!(summary.lines().any(|l| l.contains("heian_nidan.bvh") && l.contains("kinematics")), "{summary}");
     let _ = std::fs::remove_dir_all(out_dir);
 }
 
@@ -146,23 +109,10 @@ fn corrupted_files_give_one_clear_error_each() {
     let corruptions: Vec<(&str, String)> = vec![
         ("truncated", original[..original.len() * 2 / 3].to_string()),
         ("truncated_hierarchy", original[..motion / 2].to_string()),
-        (
-            "letter_in_number",
-            format!(
-                "{}1.2q3{}",
-                &original[..first_row],
-                &original[first_row + 1..]
-            ),
-        ),
+        ("letter_in_number", format!("{}1.2q3{}", &original[..first_row], &original[first_row + 1..])),
         ("missing_brace", original.replacen("{", "", 3)),
-        (
-            "wrong_channel_count",
-            original.replacen("CHANNELS 3", "CHANNELS 4", 1),
-        ),
-        (
-            "bad_table",
-            "Time,Hips.Dx,Hips.Dy,Hips.Dz\n0,1,2,3\n0.01,1,2x,3\n".to_string(),
-        ),
+        ("wrong_channel_count", original.replacen("CHANNELS 3", "CHANNELS 4", 1)),
+        ("bad_table", "Time,Hips.Dx,Hips.Dy,Hips.Dz\n0,1,2,3\n0.01,1,2x,3\n".to_string()),
         ("empty", String::new()),
     ];
     for (name, content) in &corruptions {
@@ -170,26 +120,15 @@ fn corrupted_files_give_one_clear_error_each() {
         std::fs::write(&path, content).unwrap();
         for command in ["info", "translate"] {
             let out = embusen(
-                &[
-                    command,
-                    path.to_str().unwrap(),
-                    "-o",
-                    work.join("out").to_str().unwrap(),
-                ][..if command == "info" { 2 } else { 4 }],
+                &[command, path.to_str().unwrap(), "-o", work.join("out").to_str().unwrap()]
+                    [..if command == "info" { 2 } else { 4 }],
             );
             let stderr = text(&out.stderr);
             assert_eq!(out.status.code(), Some(1), "{name} {command}: {stderr}");
             assert!(!stderr.contains("panicked"), "{name}: {stderr}");
-            let errors: Vec<&str> = stderr
-                .lines()
-                .filter(|l| l.starts_with("error: "))
-                .collect();
+            let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error: ")).collect();
             assert_eq!(errors.len(), 1, "{name} {command}: {stderr}");
-            assert!(
-                errors[0].starts_with(&format!("error: {}", path.display())),
-                "{}",
-                errors[0]
-            );
+            assert!(errors[0].starts_with(&format!("error: {}", path.display())), "{}", errors[0]);
             eprintln!("{name}: {}", errors[0]);
             // Errors inside the text say where (file:line:column:).
             if *name != "empty" {
@@ -197,11 +136,7 @@ fn corrupted_files_give_one_clear_error_each() {
                 let mut parts = after.splitn(3, ':');
                 let line_ok = parts.next().is_some_and(|l| l.parse::<usize>().is_ok());
                 let column_ok = parts.next().is_some_and(|c| c.parse::<usize>().is_ok());
-                assert!(
-                    line_ok && column_ok,
-                    "{name}: no line:column in {}",
-                    errors[0]
-                );
+                assert!(line_ok && column_ok, "{name}: no line:column in {}", errors[0]);
             }
         }
     }
@@ -217,19 +152,10 @@ fn one_bad_file_does_not_stop_the_others() {
     let bad = work.join("bad.bvh");
     std::fs::write(&bad, "HIERARCHY\nROOT Hips\n{\n").unwrap();
     let good = dir.join("karate/mae_geri_left.bvh");
-    let out = embusen(&[
-        "translate",
-        bad.to_str().unwrap(),
-        good.to_str().unwrap(),
-        "-o",
-        work.to_str().unwrap(),
-    ]);
+    let out =
+        embusen(&["translate", bad.to_str().unwrap(), good.to_str().unwrap(), "-o", work.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(1));
     assert!(work.join("mae_geri_left.embusen.bvh").exists());
-    assert!(
-        text(&out.stderr).contains("1 of 2 files failed"),
-        "{}",
-        text(&out.stderr)
-    );
+    assert!(text(&out.stderr).contains("1 of 2 files failed"), "{}", text(&out.stderr));
     let _ = std::fs::remove_dir_all(work);
 }

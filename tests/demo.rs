@@ -18,8 +18,7 @@ fn poses(d: &Demo) -> Poses {
 
 /// `[left, right]` foot joints, and the toe end site under each.
 fn feet_and_toes(d: &Demo) -> ([usize; 2], [usize; 2]) {
-    let feet =
-        detect_feet(&d.skeleton.names).expect("the demo names its feet LeftFoot and RightFoot");
+    let feet = detect_feet(&d.skeleton.names).expect("the demo names its feet LeftFoot and RightFoot");
     let feet = [feet.left, feet.right];
     let toes = feet.map(|foot| {
         (0..d.skeleton.joint_count())
@@ -73,11 +72,7 @@ fn skeleton_is_the_karate_suit_hierarchy() {
         "RightHand",
     ] {
         let j = s.joint(name).unwrap_or_else(|| panic!("no joint {name}"));
-        assert_eq!(
-            s.channels[j],
-            [Channel::Zrotation, Channel::Yrotation, Channel::Xrotation],
-            "{name}"
-        );
+        assert_eq!(s.channels[j], [Channel::Zrotation, Channel::Yrotation, Channel::Xrotation], "{name}");
     }
     for j in 0..s.joint_count() {
         if s.is_end_site[j] {
@@ -106,10 +101,7 @@ fn planted_feet_do_not_slide_and_rest_on_the_floor() {
             }
             let planted = *anchor.get_or_insert(ankle);
             let slide_cm = ankle.distance(planted);
-            assert!(
-                slide_cm < 0.01,
-                "foot {side} slid {slide_cm} cm by frame {f}"
-            );
+            assert!(slide_cm < 0.01, "foot {side} slid {slide_cm} cm by frame {f}");
             assert!(
                 (ankle.y - ANKLE_HEIGHT_CM).abs() < 0.01,
                 "foot {side} planted at y {} in frame {f}",
@@ -117,10 +109,7 @@ fn planted_feet_do_not_slide_and_rest_on_the_floor() {
             );
         }
         // Every step counts: the recording really walks on both feet.
-        assert!(
-            swing_frames > 300,
-            "foot {side} swings in only {swing_frames} frames"
-        );
+        assert!(swing_frames > 300, "foot {side} swings in only {swing_frames} frames");
     }
 }
 
@@ -144,29 +133,17 @@ fn hips_travel_a_closed_path() {
     let d = demo();
     let p = poses(&d);
     for (f, root) in d.true_root_cm.iter().enumerate() {
-        assert!(
-            p.at(f, 0).distance(*root) < 1e-9,
-            "true root differs from the Hips in frame {f}"
-        );
+        assert!(p.at(f, 0).distance(*root) < 1e-9, "true root differs from the Hips in frame {f}");
     }
     let floor = |v: DVec3| v.with_y(0.0);
     let gap_cm = floor(d.true_root_cm[0]).distance(floor(d.true_root_cm[FRAMES - 1]));
     assert!(gap_cm < 5.0, "path ends {gap_cm} cm from its start");
-    let path_cm: f64 = d
-        .true_root_cm
-        .windows(2)
-        .map(|w| floor(w[0]).distance(floor(w[1])))
-        .sum();
+    let path_cm: f64 = d.true_root_cm.windows(2).map(|w| floor(w[0]).distance(floor(w[1]))).sum();
     assert!(path_cm > 300.0, "path only {path_cm} cm long");
     // Lower in stances than when standing, but always a standing figure.
     let heights: Vec<f64> = d.true_root_cm.iter().map(|r| r.y).collect();
-    let (low, high) = heights
-        .iter()
-        .fold((f64::MAX, f64::MIN), |(lo, hi), &h| (lo.min(h), hi.max(h)));
-    assert!(
-        high - low > 5.0 && low > 60.0 && high < 95.0,
-        "hips between {low} and {high} cm"
-    );
+    let (low, high) = heights.iter().fold((f64::MAX, f64::MIN), |(lo, hi), &h| (lo.min(h), hi.max(h)));
+    assert!(high - low > 5.0 && low > 60.0 && high < 95.0, "hips between {low} and {high} cm");
 }
 
 #[test]
@@ -186,20 +163,11 @@ fn accelerometers_read_one_g_at_rest_and_more_in_swing() {
             // A central difference sees the neighbours too.
             if (f - 1..=f + 1).all(|g| d.stance[g][side]) {
                 at_rest += 1;
-                assert!(
-                    deviation_g < 0.02,
-                    "foot {side} at rest reads {reading} in frame {f}"
-                );
+                assert!(deviation_g < 0.02, "foot {side} at rest reads {reading} in frame {f}");
             }
         }
-        assert!(
-            at_rest > FRAMES / 2,
-            "foot {side} rests in only {at_rest} frames"
-        );
-        assert!(
-            largest_deviation_g > 0.2,
-            "foot {side} never accelerates: {largest_deviation_g} g"
-        );
+        assert!(at_rest > FRAMES / 2, "foot {side} rests in only {at_rest} frames");
+        assert!(largest_deviation_g > 0.2, "foot {side} never accelerates: {largest_deviation_g} g");
     }
 }
 

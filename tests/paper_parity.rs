@@ -9,20 +9,11 @@ use embusen::paper::{PaperParams, PaperResult, Smoothing, paper_translation};
 use embusen::signals::magnitudes;
 use embusen::table::{Accelerations, Table};
 
-const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data");
+mod common;
 
 /// The karate folder, or `None` (after saying so) when the data is absent.
 fn karate() -> Option<PathBuf> {
-    let dir = Path::new(DATA).join("karate");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "SKIPPED: ../shared/data not found (looked in {})",
-            dir.display()
-        );
-        None
-    }
+    common::data_dir().map(|d| d.join("karate"))
 }
 
 fn read_table(path: &Path) -> Table {
@@ -31,30 +22,20 @@ fn read_table(path: &Path) -> Table {
 }
 
 fn joint(table: &Table, name: &str) -> usize {
-    table
-        .joint_names
-        .iter()
-        .position(|n| n == name)
-        .unwrap_or_else(|| panic!("no joint {name}"))
+    table.joint_names.iter().position(|n| n == name).unwrap_or_else(|| panic!("no joint {name}"))
 }
 
 /// Runs the paper method on the table the way RMoCap does.
 fn run(table: &Table, smoothing: Smoothing) -> PaperResult {
-    let feet = Feet {
-        left: joint(table, "LeftFoot"),
-        right: joint(table, "RightFoot"),
-    };
+    let feet = Feet { left: joint(table, "LeftFoot"), right: joint(table, "RightFoot") };
     let left = magnitudes(&table.accel_g("LeftFoot").expect("LeftFoot.a*"));
     let right = magnitudes(&table.accel_g("RightFoot").expect("RightFoot.a*"));
     let fps = 1.0 / table.frame_time_s().expect("a Time column");
-    let params = PaperParams {
-        smoothing,
-        ..PaperParams::default()
-    };
+    let params = PaperParams { smoothing, ..PaperParams::default() };
     let poses = table.poses();
     let start = Instant::now();
-    let result = paper_translation(&poses, feet, [&left, &right], fps, &params)
-        .unwrap_or_else(|e| panic!("{e}"));
+    let result =
+        paper_translation(&poses, feet, [&left, &right], fps, &params).unwrap_or_else(|e| panic!("{e}"));
     eprintln!(
         "paper_translation ({smoothing:?}) on {} frames: {:.3} ms",
         poses.frame_count(),
@@ -68,10 +49,7 @@ fn faithful_mode_matches_rmocap_on_heian_shodan() {
     let Some(dir) = karate() else { return };
     let start = Instant::now();
     let input = read_table(&dir.join("heian_shodan.csv"));
-    eprintln!(
-        "Table::parse heian_shodan.csv: {:.1} ms",
-        start.elapsed().as_secs_f64() * 1e3
-    );
+    eprintln!("Table::parse heian_shodan.csv: {:.1} ms", start.elapsed().as_secs_f64() * 1e3);
     let reference = read_table(&dir.join("heian_shodan.paper-reference.csv"));
     assert_eq!(input.frame_count(), 2600);
     assert_eq!(reference.headers, input.headers);
@@ -102,12 +80,7 @@ fn faithful_mode_matches_rmocap_on_heian_shodan() {
         worst.0, worst.1
     );
     assert_eq!(compared, 75 * 2600);
-    assert!(
-        max_diff_cm <= 1e-6,
-        "max |diff| {max_diff_cm} cm at frame {} {}",
-        worst.0,
-        worst.1
-    );
+    assert!(max_diff_cm <= 1e-6, "max |diff| {max_diff_cm} cm at frame {} {}", worst.0, worst.1);
 
     // The other columns are untouched, as in R.
     for name in ["Time", "Hips.Rx", "LeftFoot.ax"] {
@@ -131,28 +104,11 @@ fn clean_mode_differs_mildly_and_pins_feet_at_the_ends() {
     let half_second = 50;
 
     // Clean smoothing has no zeroed tails, so feet are pinned at both ends.
-    let pinned = |range: std::ops::Range<usize>| {
-        clean.pass1_pinned[range]
-            .iter()
-            .filter(|p| p.is_some())
-            .count()
-    };
-    assert!(
-        pinned(1..half_second) > half_second / 2,
-        "{}",
-        pinned(1..half_second)
-    );
-    assert!(
-        pinned(n - half_second..n) > half_second / 2,
-        "{}",
-        pinned(n - half_second..n)
-    );
-    assert!(
-        clean
-            .accel_smoothed_g
-            .iter()
-            .all(|s| s.iter().all(|&v| v > 0.5))
-    );
+    let pinned =
+        |range: std::ops::Range<usize>| clean.pass1_pinned[range].iter().filter(|p| p.is_some()).count();
+    assert!(pinned(1..half_second) > half_second / 2, "{}", pinned(1..half_second));
+    assert!(pinned(n - half_second..n) > half_second / 2, "{}", pinned(n - half_second..n));
+    assert!(clean.accel_smoothed_g.iter().all(|s| s.iter().all(|&v| v > 0.5)));
 
     // The hips path: the two modes agree closely in the middle of the kata.
     let hips = joint(&input, "Hips");
@@ -188,8 +144,7 @@ fn accel_side_file_equals_the_tables_accelerometer_columns() {
     let input = read_table(&dir.join("heian_shodan.csv"));
     let path = dir.join("heian_shodan.accel.csv");
     let bytes = std::fs::read(&path).expect("heian_shodan.accel.csv");
-    let side =
-        Accelerations::parse(&bytes, "heian_shodan.accel.csv").unwrap_or_else(|e| panic!("{e}"));
+    let side = Accelerations::parse(&bytes, "heian_shodan.accel.csv").unwrap_or_else(|e| panic!("{e}"));
     let from_table = Accelerations::from_table(&input);
     assert_eq!(side.sensor_names.len(), 19);
     assert_eq!(side.sensor_names, from_table.sensor_names);

@@ -59,25 +59,13 @@ fn a_letter_in_a_number_points_at_the_letter() {
 fn missing_values_and_non_finite_numbers_are_errors() {
     let text = SMALL.replace("0.01,1.5,", "0.01,NA,");
     let e = error(&text);
-    assert!(
-        e.starts_with("t.csv:3:6: expected a number, found `NA`"),
-        "{e}"
-    );
+    assert!(e.starts_with("t.csv:3:6: expected a number, found `NA`"), "{e}");
     let text = SMALL.replace("0.01,1.5,", "0.01,,");
-    assert_eq!(
-        error(&text),
-        "t.csv:3:6: expected a number, found an empty field"
-    );
+    assert_eq!(error(&text), "t.csv:3:6: expected a number, found an empty field");
     let text = SMALL.replace("0.01,1.5,", "0.01,Inf,");
-    assert_eq!(
-        error(&text),
-        "t.csv:3:6: expected a finite number, found `Inf`"
-    );
+    assert_eq!(error(&text), "t.csv:3:6: expected a finite number, found `Inf`");
     let text = SMALL.replace("0.01,1.5,", "0.01,NaN,");
-    assert_eq!(
-        error(&text),
-        "t.csv:3:6: expected a finite number, found `NaN`"
-    );
+    assert_eq!(error(&text), "t.csv:3:6: expected a finite number, found `NaN`");
 }
 
 #[test]
@@ -90,23 +78,14 @@ fn rows_with_the_wrong_number_of_fields() {
 
 #[test]
 fn empty_file_header_only_and_bad_headers() {
-    assert_eq!(
-        error(""),
-        "t.csv:1:1: the file is empty: expected a header row of column names"
-    );
+    assert_eq!(error(""), "t.csv:1:1: the file is empty: expected a header row of column names");
     assert!(error("\n\r\n").contains("the file is empty"));
-    assert_eq!(
-        error("Time,Hips.Dx\n"),
-        "t.csv:2:1: expected rows of numbers after the header, found none"
-    );
+    assert_eq!(error("Time,Hips.Dx\n"), "t.csv:2:1: expected rows of numbers after the header, found none");
     assert_eq!(
         error("Time,Hips.Dx,Time\n1,2,3\n"),
         "t.csv:1:14: column name `Time` appears twice (first as column 1)"
     );
-    assert_eq!(
-        error("Time,,Hips.Dx\n1,2,3\n"),
-        "t.csv:1:6: expected a column name, found an empty field"
-    );
+    assert_eq!(error("Time,,Hips.Dx\n1,2,3\n"), "t.csv:1:6: expected a column name, found an empty field");
     assert!(error("\"Time,Hips.Dx\n1\n").contains("quoted field never closes"));
     assert_eq!(
         error("\"Time\"x,Hips.Dx\n1,2\n"),
@@ -139,11 +118,7 @@ fn round_trip_parse_write_parse() {
 #[test]
 fn with_shift_moves_every_position_column_only() {
     let t = parse(SMALL);
-    let shift = [
-        DVec3::new(1.0, 2.0, 3.0),
-        DVec3::ZERO,
-        DVec3::new(-1.0, 0.0, 0.5),
-    ];
+    let shift = [DVec3::new(1.0, 2.0, 3.0), DVec3::ZERO, DVec3::new(-1.0, 0.0, 0.5)];
     let s = t.with_shift(&shift);
     let (before, after) = (t.poses(), s.poses());
     for (f, shift) in shift.iter().enumerate() {
@@ -151,13 +126,7 @@ fn with_shift_moves_every_position_column_only() {
             assert_eq!(after.at(f, j), before.at(f, j) + *shift);
         }
     }
-    for name in [
-        "Time",
-        "Hips.Rx",
-        "LeftFoot.ax",
-        "LeftFoot.ay",
-        "LeftFoot.az",
-    ] {
+    for name in ["Time", "Hips.Rx", "LeftFoot.ax", "LeftFoot.ay", "LeftFoot.az"] {
         assert_eq!(s.column(name), t.column(name), "{name}");
     }
     // A short shift leaves the remaining frames alone.
@@ -183,10 +152,7 @@ fn any_subset_of_columns() {
 
     // No accelerometer columns: not an accelerometer file.
     let e = Accelerations::parse(b"Time,Hips.Dx\n0,1\n", "a.csv").unwrap_err();
-    assert!(
-        e.to_string().starts_with("a.csv: expected `<Sensor>.ax`"),
-        "{e}"
-    );
+    assert!(e.to_string().starts_with("a.csv: expected `<Sensor>.ax`"), "{e}");
 
     // Time that does not increase is not a frame time.
     let t = parse("Time,Hips.Dx\n0,1\n0,2\n");
@@ -199,15 +165,9 @@ fn crlf_and_quoted_r_headers_with_row_numbers() {
                    \"1\",0,1,2,3,4\r\n\
                    \"2\",0.01,1.5,2.5,3.5,4.5\r\n";
     let t = parse(r_style);
-    assert_eq!(
-        t.headers,
-        ["Time", "Hips.Dx", "Hips.Dy", "Hips.Dz", "a \"quoted\" name"]
-    );
+    assert_eq!(t.headers, ["Time", "Hips.Dx", "Hips.Dy", "Hips.Dz", "a \"quoted\" name"]);
     assert_eq!(t.frame_count(), 2);
-    assert_eq!(
-        t.values,
-        [0.0, 1.0, 2.0, 3.0, 4.0, 0.01, 1.5, 2.5, 3.5, 4.5]
-    );
+    assert_eq!(t.values, [0.0, 1.0, 2.0, 3.0, 4.0, 0.01, 1.5, 2.5, 3.5, 4.5]);
     assert_eq!(t.warnings.len(), 1);
     assert!(t.warnings[0].contains("row numbers"), "{:?}", t.warnings);
     // The quoted name survives a round trip.

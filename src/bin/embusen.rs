@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
+use embusen::metrics::{floor_path_cm, mean_floor_error_cm};
 use embusen::paper::{PaperParams, Smoothing};
 use embusen::recording::{FeetChoice, Recording, Translated};
 use embusen::table::Accelerations;
@@ -95,15 +96,13 @@ fn main() -> ExitCode {
 /// Reads a file into a [`Recording`], naming the file in any error.
 fn load(path: &Path, fps: Option<f64>) -> Result<Recording, Error> {
     let name = path.display().to_string();
-    let bytes =
-        std::fs::read(path).map_err(|e| Error::whole(&name, format!("cannot read: {e}")))?;
+    let bytes = std::fs::read(path).map_err(|e| Error::whole(&name, format!("cannot read: {e}")))?;
     Recording::parse(&bytes, &name, fps)
 }
 
 fn load_accel(path: &Path) -> Result<Accelerations, Error> {
     let name = path.display().to_string();
-    let bytes =
-        std::fs::read(path).map_err(|e| Error::whole(&name, format!("cannot read: {e}")))?;
+    let bytes = std::fs::read(path).map_err(|e| Error::whole(&name, format!("cannot read: {e}")))?;
     Accelerations::parse(&bytes, &name)
 }
 
@@ -118,36 +117,18 @@ fn run_info(inputs: &[PathBuf], fps: Option<f64>) -> ExitCode {
             }
         }
     }
-    if failed {
-        ExitCode::FAILURE
-    } else {
-        ExitCode::SUCCESS
-    }
+    if failed { ExitCode::FAILURE } else { ExitCode::SUCCESS }
 }
 
 fn print_info(r: &Recording) {
     println!("{}", r.name);
-    println!(
-        "  format:   {}",
-        if r.extension() == "bvh" {
-            "BVH"
-        } else {
-            "RMoCap/Shadow table"
-        }
-    );
+    println!("  format:   {}", if r.extension() == "bvh" { "BVH" } else { "RMoCap/Shadow table" });
     println!("  frames:   {}", r.frame_count());
     println!("  rate:     {} Hz", hz(r.fps));
     println!("  duration: {:.2} s", r.duration_s());
-    println!(
-        "  joints:   {} ({})",
-        r.joint_names.len(),
-        r.joint_names.join(", ")
-    );
+    println!("  joints:   {} ({})", r.joint_names.len(), r.joint_names.join(", "));
     match r.feet(&FeetChoice::default()) {
-        Ok(feet) => println!(
-            "  feet:     {} / {}",
-            r.joint_names[feet.left], r.joint_names[feet.right]
-        ),
+        Ok(feet) => println!("  feet:     {} / {}", r.joint_names[feet.left], r.joint_names[feet.right]),
         Err(_) => println!("  feet:     not detected (use --left-foot/--right-foot)"),
     }
     match &r.accel {
@@ -166,11 +147,8 @@ fn accel_path_for(input: &Path, given: Option<&PathBuf>) -> Option<PathBuf> {
     }
     let stem = input.file_stem()?.to_str()?;
     let candidate = input.with_file_name(format!("{stem}.accel.csv"));
-    (input
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("bvh"))
-        && candidate.exists())
-    .then_some(candidate)
+    (input.extension().is_some_and(|e| e.eq_ignore_ascii_case("bvh")) && candidate.exists())
+        .then_some(candidate)
 }
 
 fn output_path_for(input: &Path, output: Option<&PathBuf>, many: bool, extension: &str) -> PathBuf {
@@ -192,10 +170,7 @@ fn run_translate(args: &TranslateArgs) -> ExitCode {
     if let Some(dir) = args.output.as_ref().filter(|_| many)
         && let Err(e) = std::fs::create_dir_all(dir)
     {
-        eprintln!(
-            "error: {}: cannot create the output directory: {e}",
-            dir.display()
-        );
+        eprintln!("error: {}: cannot create the output directory: {e}", dir.display());
         return ExitCode::FAILURE;
     }
     let params = PaperParams {
@@ -207,10 +182,7 @@ fn run_translate(args: &TranslateArgs) -> ExitCode {
         },
         ..PaperParams::default()
     };
-    let feet = FeetChoice {
-        left: args.left_foot.clone(),
-        right: args.right_foot.clone(),
-    };
+    let feet = FeetChoice { left: args.left_foot.clone(), right: args.right_foot.clone() };
     let bar = indicatif::ProgressBar::new(args.inputs.len() as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")
@@ -254,18 +226,9 @@ fn translate_one(
         Method::Paper => recording.translate_paper(feet, params)?,
     };
     let out_path = output_path_for(input, args.output.as_ref(), many, recording.extension());
-    std::fs::write(&out_path, recording.write_shifted(&translated.shift_cm)).map_err(|e| {
-        Error::whole(
-            &out_path.display().to_string(),
-            format!("cannot write: {e}"),
-        )
-    })?;
-    Ok(format!(
-        "{} → {}: {}",
-        recording.name,
-        out_path.display(),
-        describe(&recording, &translated)
-    ))
+    std::fs::write(&out_path, recording.write_shifted(&translated.shift_cm))
+        .map_err(|e| Error::whole(&out_path.display().to_string(), format!("cannot write: {e}")))?;
+    Ok(format!("{} → {}: {}", recording.name, out_path.display(), describe(&recording, &translated)))
 }
 
 /// One line on what the method did.
@@ -285,11 +248,7 @@ fn describe(recording: &Recording, t: &Translated) -> String {
         100.0 * pinned(&t.paper.pass2_pinned) as f64 / frames as f64,
         hips_before / 100.0,
         hips_after / 100.0,
-        t.paper
-            .warnings
-            .iter()
-            .map(|w| format!("; warning: {w}"))
-            .collect::<String>(),
+        t.paper.warnings.iter().map(|w| format!("; warning: {w}")).collect::<String>(),
     )
 }
 
@@ -298,14 +257,6 @@ fn describe(recording: &Recording, t: &Translated) -> String {
 fn hz(fps: f64) -> String {
     let text = format!("{fps:.2}");
     text.trim_end_matches('0').trim_end_matches('.').to_string()
-}
-
-/// Length of a trajectory's path on the floor (X/Z), in cm.
-fn floor_path_cm(points: &[glam::DVec3]) -> f64 {
-    points
-        .windows(2)
-        .map(|w| (w[1] - w[0]).with_y(0.0).length())
-        .sum()
 }
 
 fn run_demo() -> ExitCode {
@@ -318,24 +269,17 @@ fn run_demo() -> ExitCode {
         hz(recording.fps),
         recording.duration_s()
     );
-    let translated =
-        match recording.translate_paper(&FeetChoice::default(), &PaperParams::default()) {
-            Ok(t) => t,
-            Err(e) => {
-                eprintln!("error: {e}");
-                return ExitCode::FAILURE;
-            }
-        };
+    let translated = match recording.translate_paper(&FeetChoice::default(), &PaperParams::default()) {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
     println!("  method paper: {}", describe(&recording, &translated));
     let estimated = translated.poses.trajectory(0);
     let truth = &demo.true_root_cm;
-    let start = truth[0] - estimated[0];
-    let mean_error_cm = estimated
-        .iter()
-        .zip(truth)
-        .map(|(e, t)| (*e + start - *t).with_y(0.0).length())
-        .sum::<f64>()
-        / truth.len() as f64;
+    let mean_error_cm = mean_floor_error_cm(&estimated, truth);
     println!(
         "  true hips floor path {:.2} m; mean horizontal error of the estimate {:.1} cm",
         floor_path_cm(truth) / 100.0,

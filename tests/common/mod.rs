@@ -10,10 +10,7 @@ pub fn data_dir() -> Option<PathBuf> {
     if dir.is_dir() {
         Some(dir)
     } else {
-        eprintln!(
-            "SKIPPED: {} not found; tests on the real recordings did not run",
-            dir.display()
-        );
+        eprintln!("SKIPPED: {} not found; tests on the real recordings did not run", dir.display());
         None
     }
 }
@@ -45,13 +42,49 @@ pub fn table_joint_of_each_bvh_joint(
             if skeleton.is_end_site[j] {
                 let parent = &skeleton.names[skeleton.parents[j]?];
                 let p = table_names.iter().position(|n| n == parent)?;
-                table_names
-                    .get(p + 1)
-                    .filter(|n| n.starts_with("EndSite"))
-                    .map(|_| p + 1)
+                table_names.get(p + 1).filter(|n| n.starts_with("EndSite")).map(|_| p + 1)
             } else {
                 table_names.iter().position(|n| *n == skeleton.names[j])
             }
         })
         .collect()
+}
+
+/// Opens a shared recording (path relative to the data folder) as the CLI does.
+pub fn open(dir: &Path, relative: &str) -> embusen::recording::Recording {
+    let path = dir.join(relative);
+    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    embusen::recording::Recording::parse(&bytes, relative, None).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Opens a shared accelerometer side file.
+pub fn open_accel(dir: &Path, relative: &str) -> embusen::table::Accelerations {
+    let path = dir.join(relative);
+    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    embusen::table::Accelerations::parse(&bytes, relative).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Opens a shared RMoCap table.
+pub fn open_table(dir: &Path, relative: &str) -> embusen::table::Table {
+    let path = dir.join(relative);
+    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    embusen::table::Table::parse(&bytes, relative).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Largest per-axis difference (cm) between the forward kinematics of a BVH
+/// and the global positions of an RMoCap table, over every joint of the BVH.
+pub fn max_fk_difference_cm(bvh: &embusen::bvh::Bvh, table: &embusen::table::Table) -> f64 {
+    let poses = embusen::kinematics::forward_kinematics(&bvh.skeleton, &bvh.motion);
+    let expected = table.poses();
+    assert_eq!(poses.frame_count(), expected.frame_count());
+    let matches = table_joint_of_each_bvh_joint(&bvh.skeleton, &table.joint_names);
+    let mut max_diff: f64 = 0.0;
+    for (j, table_joint) in matches.iter().enumerate() {
+        let table_joint =
+            table_joint.unwrap_or_else(|| panic!("the table has no joint {}", bvh.skeleton.names[j]));
+        for f in 0..poses.frame_count() {
+            max_diff = max_diff.max((poses.at(f, j) - expected.at(f, table_joint)).abs().max_element());
+        }
+    }
+    max_diff
 }
