@@ -1,39 +1,111 @@
 #!/usr/bin/env bash
-# embusen's one entry point for building, running and testing.
-#   ./build.sh demo    run the CLI on the built-in demo recording
-#   ./build.sh test    all tests (format, lints, unit, integration, parity)
-#   ./build.sh bench   print the speed figures
-# It installs what it needs on a fresh machine.
+# embusen's one entry point. It installs what it needs on a fresh machine.
+#   ./build.sh serve   build the web app into dist/ and serve it on 127.0.0.1
+#   ./build.sh build   build the web app into dist/ (a static site: any host works)
+#   ./build.sh test    every test: format, lints, native, wasm, browser
+#   ./build.sh bench   the speed figures (native core, then in the browser)
+#   ./build.sh demo    the command-line tool on the built-in demo recording
 set -euo pipefail
 cd "$(dirname "$0")"
 
-ensure_rust_components() {
-    # rustfmt and clippy come with the usual toolchain profile; add them if not.
+PORT="${PORT:-8765}"
+WASM_TARGET=wasm32-unknown-unknown
+
+# --- installing what is missing --------------------------------------------
+
+ensure_rust() {
     rustup component list --installed 2>/dev/null | grep -q '^rustfmt' || rustup component add rustfmt
     rustup component list --installed 2>/dev/null | grep -q '^clippy' || rustup component add clippy
+    rustup target list --installed | grep -qx "$WASM_TARGET" || rustup target add "$WASM_TARGET"
+}
+
+# wasm-bindgen-cli must be exactly the version of the wasm-bindgen crate in Cargo.lock.
+wasm_bindgen_version() {
+    awk '/^name = "wasm-bindgen"$/ { getline; gsub(/version = |"/, ""); print; exit }' Cargo.lock
+}
+
+ensure_wasm_bindgen() {
+    local want
+    want="$(wasm_bindgen_version)"
+    if ! command -v wasm-bindgen >/dev/null || [ "$(wasm-bindgen --version | awk '{print $2}')" != "$want" ]; then
+        echo "installing wasm-bindgen-cli $want (takes a few minutes once)" >&2
+        cargo install wasm-bindgen-cli --version "$want"
+    fi
+}
+
+ensure_node_packages() {
+    if [ ! -x node_modules/.bin/wasm-opt ] || [ ! -d node_modules/playwright-core ] || [ ! -d node_modules/three ]; then
+        npm ci --no-audit --no-fund
+    fi
+}
+
+ensure_chromium() {
+    if ! command -v chromium >/dev/null || ! command -v chromedriver >/dev/null; then
+        echo "installing Debian's chromium and chromium-driver" >&2
+        apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium chromium-driver >/dev/null
+    fi
+}
+
+# --- building ------------------------------------------------------------------
+
+cmd_build() {
+    ensure_rust
+    ensure_wasm_bindgen
+    ensure_node_packages
+    cargo build --lib --release --target "$WASM_TARGET"
+    rm -rf dist
+    mkdir -p dist/pkg
+    wasm-bindgen --target web --no-typescript --out-dir dist/pkg \
+        "target/$WASM_TARGET/release/embusen.wasm"
+    # npm's binaryen: Debian's wasm-opt (108) breaks this module.
+    node_modules/.bin/wasm-opt -O3 --enable-bulk-memory --enable-nontrapping-float-to-int \
+        --enable-sign-ext --enable-mutable-globals --enable-reference-types --enable-multivalue \
+        dist/pkg/embusen_bg.wasm -o dist/pkg/embusen_bg.wasm
+    cp www/*.html www/*.js www/*.css dist/
+    echo "built dist/ ($(du -sh dist | cut -f1))" >&2
+}
+
+cmd_serve() {
+    cmd_build
+    echo "embusen: http://127.0.0.1:$PORT/" >&2
+    exec python3 -m http.server "$PORT" --bind 127.0.0.1 --directory dist
+}
+
+# --- testing ---------------------------------------------------------------------
+
+cmd_test() {
+    ensure_rust
+    cargo fmt --check
+    cargo clippy --all-targets --quiet -- -D warnings
+    cargo clippy --lib --target "$WASM_TARGET" --quiet -- -D warnings
+    cargo test --release
+    cmd_build
+    ensure_chromium
+    CHROMEDRIVER=/usr/bin/chromedriver WASM_BINDGEN_TEST_TIMEOUT=120 \
+        cargo test --release --target "$WASM_TARGET" --test wasm
+    node --test tests/browser/app.test.mjs
+}
+
+cmd_bench() {
+    cargo bench --bench core
+    cmd_build
+    ensure_chromium
+    node tests/browser/bench.mjs
 }
 
 cmd_demo() {
     cargo run --release --quiet --bin embusen
 }
 
-cmd_test() {
-    ensure_rust_components
-    cargo fmt --check
-    cargo clippy --all-targets --quiet -- -D warnings
-    cargo test --release
-}
-
-cmd_bench() {
-    cargo bench --bench core
-}
-
-case "${1:-demo}" in
-    demo) cmd_demo ;;
+case "${1:-serve}" in
+    serve) cmd_serve ;;
+    build) cmd_build ;;
     test) cmd_test ;;
     bench) cmd_bench ;;
+    demo) cmd_demo ;;
     *)
-        echo "usage: ./build.sh [demo|test|bench]" >&2
+        echo "usage: ./build.sh [serve|build|test|bench|demo]" >&2
         exit 2
         ;;
 esac

@@ -78,6 +78,49 @@ pub fn resolve_feet(joint_names: &[String], left: Option<&str>, right: Option<&s
     })
 }
 
+/// The hips: the joint where the two legs meet, i.e. the nearest common
+/// ancestor of the two feet in `parents`. Some files put a static root above
+/// the hips (optical datasets often do) or add a pelvis helper, so "joint 0"
+/// is not reliably the body's centre; the legs' meeting point is. Joint 0
+/// when the feet share no ancestor.
+pub fn hips_joint(parents: &[Option<usize>], feet: Feet) -> usize {
+    let ancestors = |mut joint: usize| {
+        let mut chain = vec![joint];
+        while let Some(parent) = parents.get(joint).copied().flatten() {
+            if chain.contains(&parent) {
+                break; // a cycle would be a malformed hierarchy; stop rather than loop
+            }
+            chain.push(parent);
+            joint = parent;
+        }
+        chain
+    };
+    let left = ancestors(feet.left);
+    ancestors(feet.right).into_iter().find(|j| left.contains(j) && *j != feet.left).unwrap_or(0)
+}
+
+/// The foot joint and every joint below it (toes, end sites): the points of
+/// the foot that can touch the floor.
+pub fn foot_points(parents: &[Option<usize>], foot_joint: usize) -> Vec<usize> {
+    let mut points = vec![foot_joint];
+    // Parents come before children in BVH order, but a table's inferred tree
+    // need not be ordered, so grow the set until it stops changing.
+    loop {
+        let before = points.len();
+        for (joint, parent) in parents.iter().enumerate() {
+            if let Some(p) = parent
+                && points.contains(p)
+                && !points.contains(&joint)
+            {
+                points.push(joint);
+            }
+        }
+        if points.len() == before {
+            return points;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -114,5 +157,14 @@ mod tests {
         assert_eq!(resolve_feet(&s, Some("A"), Some("B")), Ok(Feet { left: 1, right: 2 }));
         assert!(resolve_feet(&s, None, None).unwrap_err().contains("--left-foot"));
         assert!(resolve_feet(&s, Some("Z"), Some("B")).unwrap_err().contains("`Z`"));
+    }
+
+    #[test]
+    fn hips_are_where_the_legs_meet() {
+        // 0 static root, 1 hips, 2 spine, 3/4 left thigh/foot, 5/6 right thigh/foot, 7 left toe
+        let parents = [None, Some(0), Some(1), Some(1), Some(3), Some(1), Some(5), Some(4)];
+        assert_eq!(hips_joint(&parents, Feet { left: 4, right: 6 }), 1);
+        assert_eq!(foot_points(&parents, 4), vec![4, 7]);
+        assert_eq!(hips_joint(&[None, None], Feet { left: 0, right: 1 }), 0);
     }
 }

@@ -17,9 +17,15 @@ pub mod feet;
 pub mod kinematics;
 pub mod metrics;
 pub mod paper;
+pub mod plot;
 pub mod recording;
+pub mod session;
 pub mod signals;
 pub mod skeleton;
 pub mod table;
 
 pub use error::Error;
+
+// The browser app: only in the wasm build, so the core stays browser-free.
+#[cfg(target_arch = "wasm32")]
+pub mod web;

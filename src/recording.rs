@@ -7,11 +7,11 @@ use glam::DVec3;
 
 use crate::bvh::{Bvh, ReadOptions};
 use crate::error::Error;
-use crate::feet::{Feet, Foot, resolve_feet};
+use crate::feet::{Feet, Foot, hips_joint, resolve_feet};
 use crate::kinematics::forward_kinematics;
 use crate::paper::{PaperParams, PaperResult, paper_translation};
 use crate::signals::{kinematic_accel_magnitude_g, magnitudes};
-use crate::skeleton::Poses;
+use crate::skeleton::{Poses, infer_parents};
 use crate::table::{Accelerations, Table};
 
 /// Where a recording came from, kept so the result is written in the same form.
@@ -29,8 +29,9 @@ pub struct Recording {
     pub source: Source,
     /// Joint names, in the order of `poses`.
     pub joint_names: Vec<String>,
-    /// Parent of each joint, for drawing bones (`None` for a table, which
-    /// stores no hierarchy, and for roots).
+    /// Parent of each joint (`None` for roots): the file's hierarchy, or for
+    /// a table, which stores none, the one inferred from the motion
+    /// ([`infer_parents`]).
     pub parents: Vec<Option<usize>>,
     /// Global joint positions, as recorded.
     pub poses: Poses,
@@ -76,6 +77,9 @@ pub struct Translated {
     /// The corrected global positions.
     pub poses: Poses,
     pub feet: Feet,
+    /// The hips joint for these feet ([`Recording::hips`]): its path is the
+    /// floor path shown and measured.
+    pub hips: usize,
     pub accel_source: AccelSource,
     /// What the method decided, frame by frame, for plots.
     pub paper: PaperResult,
@@ -131,11 +135,12 @@ impl Recording {
             }
         };
         let accel = Accelerations::from_table(&table);
+        let poses = table.poses();
         Ok(Recording {
             name: name.to_string(),
             joint_names: table.joint_names.clone(),
-            parents: vec![None; table.joint_names.len()],
-            poses: table.poses(),
+            parents: infer_parents(&poses),
+            poses,
             fps,
             accel: (!accel.sensor_names.is_empty()).then_some(accel),
             warnings,
@@ -174,6 +179,11 @@ impl Recording {
             .map_err(|message| Error::whole(&self.name, message))
     }
 
+    /// The hips joint (see [`hips_joint`]), for these feet.
+    pub fn hips(&self, feet: Feet) -> usize {
+        hips_joint(&self.parents, feet)
+    }
+
     /// Acceleration magnitudes of the two feet in g, `[left, right]`: from the
     /// accelerometers named like the foot joints when there are any, else from
     /// the kinematics.
@@ -188,9 +198,9 @@ impl Recording {
                 AccelSource::Accelerometer { left: left_name.clone(), right: right_name.clone() },
             );
         }
-        // The root's own motion is the vendor's translation guess; remove it so
+        // The hips' own motion is the vendor's translation guess; remove it so
         // the kinematic acceleration reflects the legs only.
-        let root = self.poses.trajectory(0);
+        let root = self.poses.trajectory(self.hips(feet));
         let relative = |foot: Foot| -> Vec<DVec3> {
             let joint = feet.joint(foot);
             (0..self.frame_count()).map(|f| self.poses.at(f, joint) - root[f]).collect()
@@ -214,6 +224,7 @@ impl Recording {
             poses: self.poses.shifted(&paper.shift_cm),
             shift_cm: paper.shift_cm.clone(),
             feet,
+            hips: self.hips(feet),
             accel_source,
             paper,
         })
@@ -230,6 +241,20 @@ impl Recording {
             }
             Source::Table(table) => table.with_shift(shift_cm).write(),
         }
+    }
+
+    /// True when the recording stands along +Z rather than +Y (some Z-up
+    /// exporters): in frame 0 the hips sit above the feet mostly along Z.
+    /// The app uses it to stand such recordings upright; the translation
+    /// methods assume Y up, as the suit's software writes.
+    pub fn up_axis_is_z(&self) -> bool {
+        let Ok(feet) = self.feet(&FeetChoice::default()) else { return false };
+        if self.frame_count() == 0 {
+            return false;
+        }
+        let feet_mid = (self.poses.at(0, feet.left) + self.poses.at(0, feet.right)) * 0.5;
+        let up = self.poses.at(0, self.hips(feet)) - feet_mid;
+        up.z > up.y.abs() && up.z > up.x.abs()
     }
 
     /// The file extension of the format it came in.

@@ -22,8 +22,9 @@ pub fn r_gaussian_kernel(window_len: usize, alpha: f64) -> Vec<f64> {
             let m = k as i64 - hw_int;
             let t = alpha * m as f64 / hw;
             // R evaluates `e^k` with `e = exp(1)` through C `pow`, and `x^2` as `x * x`;
-            // doing the same keeps the kernel bit-identical to R's on the same libm.
-            std::f64::consts::E.powf(-0.5 * (t * t))
+            // doing the same (through the `libm` crate, so every target agrees)
+            // keeps the kernel within an ulp of R's.
+            libm::pow(std::f64::consts::E, -0.5 * (t * t))
         })
         .collect();
     // R's `sum` accumulates in long double; a compensated sum gets the same
@@ -127,7 +128,7 @@ pub fn smooth_gaussian_clean(x: &[f64], window_samples: f64, alpha: f64) -> Vec<
     let kernel: Vec<f64> = (0..=2 * half)
         .map(|k| {
             let d = (k as f64 - half as f64) / sigma;
-            (-0.5 * d * d).exp()
+            libm::exp(-0.5 * d * d)
         })
         .collect();
     let full_sum: f64 = kernel.iter().sum();

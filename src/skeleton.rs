@@ -185,3 +185,71 @@ impl Poses {
         out
     }
 }
+
+/// Bones for a recording that stores no hierarchy (an RMoCap table): the
+/// tree of joint pairs whose distance stays most nearly constant over the
+/// recording — bones are rigid, other pairs are not — grown from joint 0 (a
+/// minimum spanning tree, Prim's algorithm, O(joints²·samples)).
+pub fn infer_parents(poses: &Poses) -> Vec<Option<usize>> {
+    let n = poses.joint_count;
+    let frames = poses.frame_count();
+    if n == 0 || frames == 0 {
+        return vec![None; n];
+    }
+    // Up to 64 frames spread over the recording are plenty to tell rigid pairs.
+    let step = (frames / 64).max(1);
+    let sampled: Vec<usize> = (0..frames).step_by(step).collect();
+    let cost = |a: usize, b: usize| -> f64 {
+        let d: Vec<f64> = sampled.iter().map(|&f| poses.at(f, a).distance(poses.at(f, b))).collect();
+        let mean = d.iter().sum::<f64>() / d.len() as f64;
+        let var = d.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / d.len() as f64;
+        // Spread of the length, plus a little of the length itself so that of
+        // two rigid candidates (a bone, or two joints of one segment) the
+        // nearer one wins.
+        var.sqrt() + 0.01 * mean
+    };
+    let mut parents = vec![None; n];
+    let mut in_tree = vec![false; n];
+    let mut best: Vec<(f64, usize)> = (0..n).map(|j| (cost(0, j), 0)).collect();
+    in_tree[0] = true;
+    for _ in 1..n {
+        let Some(next) = (0..n).filter(|&j| !in_tree[j]).min_by(|&a, &b| best[a].0.total_cmp(&best[b].0))
+        else {
+            break;
+        };
+        in_tree[next] = true;
+        parents[next] = Some(best[next].1);
+        for j in 0..n {
+            if !in_tree[j] {
+                let c = cost(next, j);
+                if c < best[j].0 {
+                    best[j] = (c, next);
+                }
+            }
+        }
+    }
+    parents
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn inferred_bones_of_the_demo_match_its_hierarchy() {
+        let demo = crate::demo::demo();
+        let recording = demo.recording();
+        let inferred = infer_parents(&recording.poses);
+        // As undirected edges the trees agree (the root of the search is the hips).
+        let edges = |parents: &[Option<usize>]| {
+            let mut e: Vec<(usize, usize)> =
+                parents.iter().enumerate().filter_map(|(j, p)| p.map(|p| (p.min(j), p.max(j)))).collect();
+            e.sort();
+            e
+        };
+        let expected = edges(&recording.parents);
+        let found = edges(&inferred);
+        let common = found.iter().filter(|e| expected.contains(e)).count();
+        assert!(common + 2 >= expected.len(), "{common} of {} bones recovered", expected.len());
+    }
+}

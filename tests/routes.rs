@@ -111,3 +111,19 @@ fn demo_translation_is_recovered() {
     assert!(mean_error_cm < 0.03 * path_cm, "{mean_error_cm} cm of {path_cm} cm");
     assert!(mean_vertical_cm < 5.0, "{mean_vertical_cm}");
 }
+
+#[test]
+fn every_shared_recording_stands_y_up_and_has_its_hips_found() {
+    let Some(dir) = common::data_dir() else { return };
+    for sub in ["karate", "groundtruth"] {
+        for path in common::files_with_extension(&dir.join(sub), "bvh") {
+            let recording =
+                common::open(&dir, &format!("{sub}/{}", path.file_name().unwrap().to_string_lossy()));
+            let feet = recording.feet(&FeetChoice::default()).expect("feet");
+            let hips = recording.hips(feet);
+            // The optical files put a static `joint_Root` on the floor above `Hips`.
+            assert_eq!(recording.joint_names[hips], "Hips", "{}", path.display());
+            assert!(!recording.up_axis_is_z(), "{} is Y-up", path.display());
+        }
+    }
+}

@@ -235,8 +235,8 @@ fn translate_one(
 fn describe(recording: &Recording, t: &Translated) -> String {
     let frames = recording.frame_count().max(1);
     let pinned = |pass: &[Option<embusen::feet::Foot>]| pass.iter().filter(|p| p.is_some()).count();
-    let hips_before = floor_path_cm(&recording.poses.trajectory(0));
-    let hips_after = floor_path_cm(&t.poses.trajectory(0));
+    let hips_before = floor_path_cm(&recording.poses.trajectory(t.hips));
+    let hips_after = floor_path_cm(&t.poses.trajectory(t.hips));
     format!(
         "{} frames at {} Hz, feet {}/{}, accel from {}; pinned in {:.0}% (pass 1) and {:.0}% (pass 2) of frames; hips floor path {:.2} m → {:.2} m{}",
         recording.frame_count(),
@@ -277,7 +277,7 @@ fn run_demo() -> ExitCode {
         }
     };
     println!("  method paper: {}", describe(&recording, &translated));
-    let estimated = translated.poses.trajectory(0);
+    let estimated = translated.poses.trajectory(translated.hips);
     let truth = &demo.true_root_cm;
     let mean_error_cm = mean_floor_error_cm(&estimated, truth);
     println!(

@@ -1,0 +1,144 @@
+//! What the app has open: a recording, the method settings, and their result,
+//! plus everything derived from them for display and export. Browser-free, so
+//! the wasm player stays a thin shell over it and tests can drive it natively.
+
+use crate::error::Error;
+use crate::feet::Foot;
+use crate::paper::{PaperParams, Smoothing};
+use crate::plot::{PlotData, Stance, StanceReason};
+use crate::recording::{FeetChoice, Recording, Translated};
+
+/// The user's method settings.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Settings {
+    pub paper: PaperParams,
+    pub feet: FeetChoice,
+}
+
+/// An open recording with its translation computed.
+#[derive(Clone, Debug)]
+pub struct Session {
+    pub recording: Recording,
+    pub settings: Settings,
+    pub translated: Translated,
+    pub plot_data: PlotData,
+}
+
+impl Session {
+    /// Computes the translation of `recording` with `settings`.
+    pub fn open(recording: Recording, settings: Settings) -> Result<Session, Error> {
+        let translated = translate(&recording, &settings)?;
+        let plot_data = plot_data(&recording, &translated, &settings);
+        Ok(Session { recording, settings, translated, plot_data })
+    }
+
+    /// Recomputes with new settings. On error the session keeps its previous
+    /// settings and result, so the user never loses what was on screen.
+    pub fn set_settings(&mut self, settings: Settings) -> Result<(), Error> {
+        let translated = translate(&self.recording, &settings)?;
+        self.plot_data = plot_data(&self.recording, &translated, &settings);
+        self.translated = translated;
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// The corrected recording in its own format, and a file name for it.
+    pub fn export_recording(&self) -> (String, String) {
+        let text = self.recording.write_shifted(&self.translated.shift_cm);
+        (export_name(&self.recording.name, &format!("embusen.{}", self.recording.extension())), text)
+    }
+
+    /// The hips trajectory, original and corrected, as CSV:
+    /// `frame,time_s,original_x_cm,…,corrected_z_cm`.
+    pub fn export_hips_csv(&self) -> (String, String) {
+        let before = self.recording.poses.trajectory(self.translated.hips);
+        let after = self.translated.poses.trajectory(self.translated.hips);
+        let mut out = String::from(
+            "frame,time_s,original_x_cm,original_y_cm,original_z_cm,corrected_x_cm,corrected_y_cm,corrected_z_cm\n",
+        );
+        for (f, (b, a)) in before.iter().zip(&after).enumerate() {
+            out.push_str(&format!(
+                "{f},{},{},{},{},{},{},{}\n",
+                f as f64 / self.recording.fps,
+                b.x,
+                b.y,
+                b.z,
+                a.x,
+                a.y,
+                a.z
+            ));
+        }
+        (export_name(&self.recording.name, "hips.csv"), out)
+    }
+}
+
+/// `dir/heian.bvh` + `embusen.bvh` → `heian.embusen.bvh`.
+fn export_name(name: &str, suffix: &str) -> String {
+    let base = name.rsplit(['/', '\\']).next().unwrap_or(name);
+    let stem = base.rsplit_once('.').map_or(base, |(stem, _)| stem);
+    let stem = if stem.is_empty() || stem.contains(' ') { "recording" } else { stem };
+    format!("{stem}.{suffix}")
+}
+
+fn translate(recording: &Recording, settings: &Settings) -> Result<Translated, Error> {
+    recording.translate_paper(&settings.feet, &settings.paper)
+}
+
+/// What the plots show for the paper method.
+pub fn plot_data(recording: &Recording, t: &Translated, settings: &Settings) -> PlotData {
+    let heights = |poses: &crate::skeleton::Poses, foot: Foot| -> Vec<f64> {
+        poses.trajectory(t.feet.joint(foot)).iter().map(|p| p.y).collect()
+    };
+    let stance = t
+        .paper
+        .pass1_pinned
+        .iter()
+        .zip(&t.paper.pass2_pinned)
+        .map(|(p1, p2)| match (p1, p2) {
+            (Some(a), Some(b)) if a == b => Stance::Pinned(*a, StanceReason::Both),
+            // Pass 2 runs after pass 1 and has the last word on the frame.
+            (_, Some(b)) => Stance::Pinned(*b, StanceReason::Height),
+            (Some(a), None) => Stance::Pinned(*a, StanceReason::Acceleration),
+            (None, None) => Stance::Free,
+        })
+        .collect();
+    PlotData {
+        fps: recording.fps,
+        foot_signal: t.paper.accel_smoothed_g.clone(),
+        foot_signal_label: match settings.paper.smoothing {
+            Smoothing::Faithful => "smoothed acceleration (g), R smoother".to_string(),
+            Smoothing::Clean => "smoothed acceleration (g)".to_string(),
+        },
+        heights_before_cm: [heights(&recording.poses, Foot::Left), heights(&recording.poses, Foot::Right)],
+        heights_after_cm: [heights(&t.poses, Foot::Left), heights(&t.poses, Foot::Right)],
+        hips_before_cm: recording.poses.trajectory(t.hips),
+        hips_after_cm: t.poses.trajectory(t.hips),
+        stance,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn export_names() {
+        assert_eq!(export_name("a/b/heian.bvh", "embusen.bvh"), "heian.embusen.bvh");
+        assert_eq!(export_name("walk", "hips.csv"), "walk.hips.csv");
+        assert_eq!(export_name("demo (synthetic kata)", "hips.csv"), "recording.hips.csv");
+    }
+
+    #[test]
+    fn bad_settings_keep_the_previous_result() {
+        let mut session = Session::open(crate::demo::demo().recording(), Settings::default()).unwrap();
+        let before = session.translated.shift_cm.clone();
+        let mut bad = Settings::default();
+        bad.feet.left = Some("NoSuchJoint".to_string());
+        assert!(session.set_settings(bad).is_err());
+        assert_eq!(session.translated.shift_cm, before);
+        assert_eq!(session.settings, Settings::default());
+        let (name, text) = session.export_hips_csv();
+        assert_eq!(name, "recording.hips.csv");
+        assert_eq!(text.lines().count(), session.recording.frame_count() + 1);
+    }
+}

@@ -1,0 +1,412 @@
+//! The browser side: a `Player` that JavaScript creates over two canvases (the
+//! 3D view and the plots) and drives from its animation loop. It holds a
+//! [`Session`] and only translates between the page and the core: parsing,
+//! kinematics, the method, plot layout and rendering all happen in Rust.
+
+mod canvas2d;
+mod scene;
+
+use std::sync::Arc;
+
+use wasm_bindgen::prelude::*;
+use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement, WebGl2RenderingContext};
+
+use crate::feet::Foot;
+use crate::paper::Smoothing;
+use crate::plot::{self, Layout, Stance};
+use crate::recording::{FeetChoice, Recording};
+use crate::session::{Session, Settings};
+use crate::table::Accelerations;
+use scene::{GhostMode, Scene};
+
+fn js_error(e: impl std::fmt::Display) -> JsError {
+    JsError::new(&e.to_string())
+}
+
+/// One player: a 3D view, a plot canvas, and the recording they show.
+#[wasm_bindgen]
+pub struct Player {
+    view: HtmlCanvasElement,
+    plots: HtmlCanvasElement,
+    plots_2d: CanvasRenderingContext2d,
+    /// The plots without the cursor, painted once per recording, settings or
+    /// size and copied under the cursor every frame.
+    plots_static: HtmlCanvasElement,
+    layout: Layout,
+    scene: Scene,
+    session: Option<Session>,
+    time_s: f64,
+    playing: bool,
+    speed: f64,
+    looping: bool,
+    drawn_frame: Option<usize>,
+    /// The scene or plots must be rebuilt for the current frame.
+    scene_dirty: bool,
+    /// Only the camera moved: render again, nothing to rebuild. Without these
+    /// flags a paused player would keep the GPU busy every animation frame.
+    camera_moved: bool,
+}
+
+fn context_2d(canvas: &HtmlCanvasElement) -> Result<CanvasRenderingContext2d, JsError> {
+    canvas
+        .get_context("2d")
+        .map_err(|_| js_error("the plot canvas refused a 2D context"))?
+        .ok_or_else(|| js_error("the plot canvas has no 2D context"))?
+        .dyn_into::<CanvasRenderingContext2d>()
+        .map_err(|_| js_error("the plot canvas gave an unexpected context"))
+}
+
+#[wasm_bindgen]
+impl Player {
+    /// Creates a player over the 3D canvas `view` and the 2D canvas `plots`.
+    #[wasm_bindgen(constructor)]
+    pub fn new(view: HtmlCanvasElement, plots: HtmlCanvasElement) -> Result<Player, JsError> {
+        // `preserveDrawingBuffer` lets tests and screenshots read the pixels.
+        let options = js_sys::Object::new();
+        for (key, value) in [("preserveDrawingBuffer", true), ("antialias", true)] {
+            js_sys::Reflect::set(&options, &key.into(), &value.into())
+                .map_err(|_| js_error("cannot set WebGL options"))?;
+        }
+        let gl = view
+            .get_context_with_context_options("webgl2", &options)
+            .map_err(|_| js_error("this browser refused a WebGL2 context"))?
+            .ok_or_else(|| js_error("this browser has no WebGL2"))?
+            .dyn_into::<WebGl2RenderingContext>()
+            .map_err(|_| js_error("unexpected WebGL context"))?;
+        let glow = three_d::context::Context::from_webgl2_context(gl);
+        // three-d wants an Arc; wasm is single-threaded, so it is never shared across threads.
+        #[allow(clippy::arc_with_non_send_sync)]
+        let context = three_d::Context::from_gl_context(Arc::new(glow)).map_err(js_error)?;
+        let document = web_sys::window().and_then(|w| w.document()).ok_or_else(|| js_error("no document"))?;
+        let plots_static = document
+            .create_element("canvas")
+            .map_err(|_| js_error("cannot create a canvas"))?
+            .dyn_into::<HtmlCanvasElement>()
+            .map_err(|_| js_error("cannot create a canvas"))?;
+        Ok(Player {
+            plots_2d: context_2d(&plots)?,
+            view,
+            plots,
+            plots_static,
+            layout: plot::layout(1.0, 1.0),
+            scene: Scene::new(context),
+            session: None,
+            time_s: 0.0,
+            playing: false,
+            speed: 1.0,
+            looping: true,
+            drawn_frame: None,
+            scene_dirty: true,
+            camera_moved: false,
+        })
+    }
+
+    /// Opens the built-in demo recording.
+    pub fn load_demo(&mut self) -> Result<(), JsError> {
+        let recording = crate::demo::demo().recording();
+        self.open(recording)
+    }
+
+    /// Opens a recording from its bytes (BVH or RMoCap table, told by the
+    /// content), with an optional accelerometer side file. On error the
+    /// current recording stays open and the error says file:line:column.
+    pub fn load(
+        &mut self,
+        name: &str,
+        bytes: &[u8],
+        accel_name: Option<String>,
+        accel_bytes: Option<Vec<u8>>,
+    ) -> Result<(), JsError> {
+        let mut recording = Recording::parse(bytes, name, None).map_err(js_error)?;
+        if let (Some(accel_name), Some(accel_bytes)) = (accel_name, accel_bytes) {
+            let accel = Accelerations::parse(&accel_bytes, &accel_name).map_err(js_error)?;
+            recording.attach_accel(accel).map_err(js_error)?;
+        }
+        self.open(recording)
+    }
+
+    fn open(&mut self, recording: Recording) -> Result<(), JsError> {
+        let settings = match &self.session {
+            // Keep the method settings, but not foot names that belong to another skeleton.
+            Some(s) => Settings { feet: FeetChoice::default(), ..s.settings.clone() },
+            None => Settings::default(),
+        };
+        let session = Session::open(recording, settings).map_err(js_error)?;
+        self.session = Some(session);
+        self.time_s = 0.0;
+        self.after_change();
+        Ok(())
+    }
+
+    /// After a new recording or new settings: the scene's trails and framing,
+    /// and the static plots, follow the session.
+    fn after_change(&mut self) {
+        if let Some(s) = &self.session {
+            let up_is_z = s.recording.up_axis_is_z();
+            self.scene.set_recording(&s.recording.poses, &s.translated.poses, s.translated.hips, up_is_z);
+        }
+        self.repaint_all();
+    }
+
+    /// Everything is drawn again on the next tick, static plots included.
+    fn repaint_all(&mut self) {
+        self.drawn_frame = None;
+        self.scene_dirty = true;
+        self.repaint_static_plots();
+    }
+
+    /// Changes the method settings and recomputes; on error nothing changes.
+    /// `smoothing` is "faithful" or "clean"; empty foot names mean "detect".
+    pub fn set_settings(
+        &mut self,
+        smoothing: &str,
+        window_s: f64,
+        dy_eps_cm: f64,
+        left_foot: &str,
+        right_foot: &str,
+    ) -> Result<(), JsError> {
+        let Some(session) = &mut self.session else { return Err(js_error("no recording is open")) };
+        let mut settings = session.settings.clone();
+        settings.paper.smoothing = match smoothing {
+            "faithful" => Smoothing::Faithful,
+            "clean" => Smoothing::Clean,
+            other => return Err(js_error(format!("unknown smoothing `{other}`"))),
+        };
+        settings.paper.window_s = window_s;
+        settings.paper.dy_eps_cm = dy_eps_cm;
+        let name = |s: &str| (!s.is_empty()).then(|| s.to_string());
+        settings.feet = FeetChoice { left: name(left_foot), right: name(right_foot) };
+        session.set_settings(settings).map_err(js_error)?;
+        self.after_change();
+        Ok(())
+    }
+
+    /// Sets the canvas sizes in device pixels (call on resize).
+    pub fn resize(&mut self, view_width: u32, view_height: u32, plots_width: u32, plots_height: u32) {
+        self.view.set_width(view_width.max(1));
+        self.view.set_height(view_height.max(1));
+        self.plots.set_width(plots_width.max(1));
+        self.plots.set_height(plots_height.max(1));
+        self.plots_static.set_width(plots_width.max(1));
+        self.plots_static.set_height(plots_height.max(1));
+        self.layout = plot::layout(plots_width as f32, plots_height as f32);
+        self.repaint_all();
+    }
+
+    fn repaint_static_plots(&mut self) {
+        let Some(session) = &self.session else { return };
+        let Ok(ctx) = context_2d(&self.plots_static) else { return };
+        ctx.clear_rect(0.0, 0.0, self.plots_static.width() as f64, self.plots_static.height() as f64);
+        canvas2d::paint(&ctx, &plot::draw_static(&session.plot_data, &self.layout));
+    }
+
+    /// Advances playback by `dt_s` seconds of wall time (when playing) and
+    /// draws whatever changed. Call once per animation frame.
+    pub fn tick(&mut self, dt_s: f64) {
+        if let Some(session) = &self.session
+            && self.playing
+        {
+            let duration = session.recording.duration_s();
+            self.time_s += dt_s.clamp(0.0, 0.25) * self.speed;
+            let last = (session.recording.frame_count().saturating_sub(1)) as f64 / session.recording.fps;
+            if self.time_s > last {
+                if self.looping && duration > 0.0 {
+                    self.time_s = 0.0;
+                } else {
+                    self.time_s = last;
+                    self.playing = false;
+                }
+            }
+        }
+        if self.scene_dirty || self.camera_moved || self.drawn_frame != Some(self.frame() as usize) {
+            self.draw();
+        }
+    }
+
+    /// Draws the current frame now (3D view and plots).
+    pub fn draw(&mut self) {
+        let Some(session) = &self.session else { return };
+        let frame = self.frame() as usize;
+        if self.drawn_frame != Some(frame) || self.scene_dirty {
+            let pinned = match session.plot_data.stance.get(frame) {
+                Some(Stance::Pinned(foot, _)) => {
+                    Some((session.translated.feet.joint(*foot), *foot == Foot::Left))
+                }
+                _ => None,
+            };
+            self.scene.set_frame(
+                &session.recording.poses,
+                &session.translated.poses,
+                &session.recording.parents,
+                frame,
+                pinned,
+            );
+            // Plots: the cached static part, then the cursor.
+            let (w, h) = (self.plots.width() as f64, self.plots.height() as f64);
+            self.plots_2d.clear_rect(0.0, 0.0, w, h);
+            let _ = self.plots_2d.draw_image_with_html_canvas_element(&self.plots_static, 0.0, 0.0);
+            canvas2d::paint(&self.plots_2d, &plot::draw_cursor(&session.plot_data, frame, &self.layout));
+            self.drawn_frame = Some(frame);
+        }
+        // The camera may have moved even when the frame did not.
+        self.scene.render(self.view.width(), self.view.height());
+        self.scene_dirty = false;
+        self.camera_moved = false;
+    }
+
+    // --- playback -------------------------------------------------------
+
+    /// The current frame index.
+    pub fn frame(&self) -> u32 {
+        let Some(session) = &self.session else { return 0 };
+        let last = session.recording.frame_count().saturating_sub(1);
+        ((self.time_s * session.recording.fps).round().max(0.0) as usize).min(last) as u32
+    }
+
+    pub fn set_frame(&mut self, frame: u32) {
+        let Some(session) = &self.session else { return };
+        let last = session.recording.frame_count().saturating_sub(1);
+        self.time_s = (frame as usize).min(last) as f64 / session.recording.fps;
+    }
+
+    pub fn step(&mut self, frames: i32) {
+        let f = self.frame() as i64 + frames as i64;
+        self.set_frame(f.max(0) as u32);
+    }
+
+    pub fn frame_count(&self) -> u32 {
+        self.session.as_ref().map_or(0, |s| s.recording.frame_count() as u32)
+    }
+
+    pub fn fps(&self) -> f64 {
+        self.session.as_ref().map_or(0.0, |s| s.recording.fps)
+    }
+
+    pub fn time_s(&self) -> f64 {
+        self.frame() as f64 / self.fps().max(1e-9)
+    }
+
+    pub fn playing(&self) -> bool {
+        self.playing
+    }
+
+    pub fn set_playing(&mut self, playing: bool) {
+        self.playing = playing;
+    }
+
+    /// Playback speed, clamped to 0.25–4×.
+    pub fn set_speed(&mut self, speed: f64) {
+        self.speed = speed.clamp(0.25, 4.0);
+    }
+
+    pub fn set_looping(&mut self, looping: bool) {
+        self.looping = looping;
+    }
+
+    // --- view -----------------------------------------------------------
+
+    pub fn orbit(&mut self, dx_px: f32, dy_px: f32) {
+        self.scene.orbit(dx_px, dy_px);
+        self.camera_moved = true;
+    }
+
+    pub fn pan(&mut self, dx_px: f32, dy_px: f32) {
+        self.scene.pan(dx_px, dy_px);
+        self.camera_moved = true;
+    }
+
+    /// Zooms by `factor` (< 1 closer, > 1 farther).
+    pub fn zoom(&mut self, factor: f32) {
+        self.scene.zoom(factor);
+        self.camera_moved = true;
+    }
+
+    pub fn set_follow(&mut self, follow: bool) {
+        self.scene.follow = follow;
+        self.scene_dirty = true;
+    }
+
+    /// "overlay", "side" or "hidden".
+    pub fn set_ghost(&mut self, mode: &str) {
+        self.scene.ghost_mode = match mode {
+            "side" => GhostMode::SideBySide,
+            "hidden" => GhostMode::Hidden,
+            _ => GhostMode::Overlay,
+        };
+        self.scene_dirty = true;
+    }
+
+    /// A click or drag on the plots at (x, y) canvas pixels: seeks to the
+    /// frame under it and returns true, or returns false outside the plots.
+    pub fn seek_plot(&mut self, x: f32, y: f32) -> bool {
+        let Some(session) = &self.session else { return false };
+        match plot::frame_at(&session.plot_data, &self.layout, x, y) {
+            Some(frame) => {
+                self.set_frame(frame as u32);
+                true
+            }
+            None => false,
+        }
+    }
+
+    // --- information and export -----------------------------------------
+
+    pub fn name(&self) -> String {
+        self.session.as_ref().map_or(String::new(), |s| s.recording.name.clone())
+    }
+
+    pub fn joint_names(&self) -> Vec<String> {
+        self.session.as_ref().map_or(Vec::new(), |s| s.recording.joint_names.clone())
+    }
+
+    /// `[left, right]` foot joint names in use.
+    pub fn feet(&self) -> Vec<String> {
+        let Some(s) = &self.session else { return Vec::new() };
+        let names = &s.recording.joint_names;
+        vec![names[s.translated.feet.left].clone(), names[s.translated.feet.right].clone()]
+    }
+
+    /// Where the foot accelerations came from.
+    pub fn accel_source(&self) -> String {
+        self.session.as_ref().map_or(String::new(), |s| s.translated.accel_source.to_string())
+    }
+
+    /// The reader's and the method's warnings.
+    pub fn warnings(&self) -> Vec<String> {
+        let Some(s) = &self.session else { return Vec::new() };
+        s.recording.warnings.iter().chain(&s.translated.paper.warnings).cloned().collect()
+    }
+
+    /// The plot panels in CSS pixels of the plot canvas, `[x, y, width,
+    /// height]` per panel, in the order of `plot::Panel`; tests click into them.
+    pub fn plot_panels(&self) -> Vec<f32> {
+        self.layout.plot_rects_xywh()
+    }
+
+    /// `[file name, text]` of the corrected recording (BVH or table).
+    pub fn export_recording(&self) -> Vec<String> {
+        self.session.as_ref().map_or(Vec::new(), |s| {
+            let (name, text) = s.export_recording();
+            vec![name, text]
+        })
+    }
+
+    /// `[file name, text]` of the hips trajectory CSV.
+    pub fn export_hips_csv(&self) -> Vec<String> {
+        self.session.as_ref().map_or(Vec::new(), |s| {
+            let (name, text) = s.export_hips_csv();
+            vec![name, text]
+        })
+    }
+}
+
+/// Parses a BVH and computes the global position of every joint in every
+/// frame, returning the frame count: the work the benchmark compares with
+/// three.js's `BVHLoader`.
+#[wasm_bindgen]
+pub fn parse_and_kinematics(bytes: &[u8]) -> Result<u32, JsError> {
+    let bvh =
+        crate::bvh::Bvh::parse(bytes, "bench.bvh", &crate::bvh::ReadOptions::default()).map_err(js_error)?;
+    let poses = crate::kinematics::forward_kinematics(&bvh.skeleton, &bvh.motion);
+    Ok(poses.frame_count() as u32)
+}

@@ -1,0 +1,314 @@
+//! The 3D view: three-d rendering into a canvas that JavaScript created.
+//!
+//! Everything is drawn from two instanced meshes (a unit sphere for joints, a
+//! unit cylinder for bones, floor lines and trails), so a frame costs a handful
+//! of draw calls whatever the skeleton. Positions arrive in the recording's
+//! centimetres and are drawn in metres, turned upright by `world_from_recording`.
+
+use three_d::*;
+
+use crate::skeleton::Poses;
+
+/// How the original (uncorrected) skeleton is shown.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GhostMode {
+    /// Drawn translucent over the corrected one.
+    Overlay,
+    /// Drawn beside it, one body-width to the side.
+    SideBySide,
+    Hidden,
+}
+
+const CM_TO_M: f32 = 0.01;
+const BONE_RADIUS_M: f32 = 0.018;
+const JOINT_RADIUS_M: f32 = 0.028;
+const PINNED_RADIUS_M: f32 = 0.06;
+/// Trails are decimated to at most this many segments, so that a 100,000-frame
+/// recording draws as fast as a short one.
+const MAX_TRAIL_SEGMENTS: usize = 3000;
+
+const SOLID: Srgba = Srgba::new(235, 235, 240, 255);
+const GHOST: Srgba = Srgba::new(120, 160, 255, 90);
+const CORRECTED_TRAIL: Srgba = Srgba::new(255, 200, 40, 255);
+const ORIGINAL_TRAIL: Srgba = Srgba::new(90, 140, 255, 200);
+const GRID: Srgba = Srgba::new(70, 74, 82, 255);
+const LEFT_FOOT: Srgba = Srgba::new(255, 90, 90, 255);
+const RIGHT_FOOT: Srgba = Srgba::new(70, 200, 120, 255);
+
+/// An orbiting camera: it looks at `target` from `distance_m` away, turned by
+/// `yaw` about the up axis and raised by `pitch`.
+struct Orbit {
+    target: Vec3,
+    yaw: f32,
+    pitch: f32,
+    distance_m: f32,
+}
+
+impl Orbit {
+    fn position(&self) -> Vec3 {
+        let horizontal = self.distance_m * self.pitch.cos();
+        self.target
+            + vec3(
+                horizontal * self.yaw.sin(),
+                self.distance_m * self.pitch.sin(),
+                horizontal * self.yaw.cos(),
+            )
+    }
+}
+
+pub struct Scene {
+    context: Context,
+    camera: Camera,
+    orbit: Orbit,
+    pub follow: bool,
+    pub ghost_mode: GhostMode,
+    /// Rotation that stands the recording up (Z-up files) in three-d's Y-up world.
+    world_from_recording: Mat4,
+    joints: Gm<InstancedMesh, PhysicalMaterial>,
+    bones: Gm<InstancedMesh, PhysicalMaterial>,
+    ghost_joints: Gm<InstancedMesh, PhysicalMaterial>,
+    ghost_bones: Gm<InstancedMesh, PhysicalMaterial>,
+    /// Floor grid and hips trails: rebuilt only when the recording changes.
+    floor: Gm<InstancedMesh, ColorMaterial>,
+    ambient: AmbientLight,
+    sun: DirectionalLight,
+    /// Sideways offset of the ghost in side-by-side mode (m).
+    side_offset: Vec3,
+}
+
+fn material(context: &Context, color: Srgba, transparent: bool) -> PhysicalMaterial {
+    let cpu = CpuMaterial { albedo: color, roughness: 0.7, metallic: 0.0, ..Default::default() };
+    if transparent {
+        PhysicalMaterial::new_transparent(context, &cpu)
+    } else {
+        PhysicalMaterial::new_opaque(context, &cpu)
+    }
+}
+
+fn instanced(
+    context: &Context,
+    mesh: &CpuMesh,
+    color: Srgba,
+    transparent: bool,
+) -> Gm<InstancedMesh, PhysicalMaterial> {
+    Gm::new(InstancedMesh::new(context, &Instances::default(), mesh), material(context, color, transparent))
+}
+
+/// A cylinder from `a` to `b` of radius `r` (three-d's unit cylinder runs
+/// along +X from 0 to 1 with radius 1).
+fn segment(a: Vec3, b: Vec3, r: f32) -> Mat4 {
+    let d = b - a;
+    let length = d.magnitude();
+    if length < 1e-6 {
+        return Mat4::from_translation(a) * Mat4::from_scale(0.0);
+    }
+    Mat4::from_translation(a)
+        * Mat4::from(Quat::from_arc(vec3(1.0, 0.0, 0.0), d / length, None))
+        * Mat4::from_nonuniform_scale(length, r, r)
+}
+
+fn ball(p: Vec3, r: f32) -> Mat4 {
+    Mat4::from_translation(p) * Mat4::from_scale(r)
+}
+
+impl Scene {
+    pub fn new(context: Context) -> Scene {
+        let sphere = CpuMesh::sphere(12);
+        let cylinder = CpuMesh::cylinder(10);
+        let camera = Camera::new_perspective(
+            Viewport::new_at_origo(1, 1),
+            vec3(0.0, 2.0, 5.0),
+            vec3(0.0, 1.0, 0.0),
+            vec3(0.0, 1.0, 0.0),
+            degrees(45.0),
+            0.05,
+            500.0,
+        );
+        let floor = Gm::new(
+            InstancedMesh::new(&context, &Instances::default(), &cylinder),
+            ColorMaterial::new_opaque(&context, &CpuMaterial { albedo: Srgba::WHITE, ..Default::default() }),
+        );
+        Scene {
+            joints: instanced(&context, &sphere, SOLID, false),
+            bones: instanced(&context, &cylinder, SOLID, false),
+            ghost_joints: instanced(&context, &sphere, GHOST, true),
+            ghost_bones: instanced(&context, &cylinder, GHOST, true),
+            floor,
+            ambient: AmbientLight::new(&context, 0.45, Srgba::WHITE),
+            sun: DirectionalLight::new(&context, 2.2, Srgba::WHITE, vec3(-0.4, -1.0, -0.6)),
+            camera,
+            orbit: Orbit { target: vec3(0.0, 1.0, 0.0), yaw: 0.6, pitch: 0.35, distance_m: 6.0 },
+            follow: false,
+            ghost_mode: GhostMode::Overlay,
+            world_from_recording: Mat4::identity(),
+            side_offset: vec3(1.2, 0.0, 0.0),
+            context,
+        }
+    }
+
+    fn to_world(&self, p_cm: glam::DVec3) -> Vec3 {
+        let p = vec3(p_cm.x as f32, p_cm.y as f32, p_cm.z as f32) * CM_TO_M;
+        (self.world_from_recording * p.extend(1.0)).truncate()
+    }
+
+    /// Prepares the static parts for a new recording: up axis, floor grid,
+    /// hips trails, and a camera that frames the whole floor path.
+    pub fn set_recording(&mut self, original: &Poses, corrected: &Poses, hips: usize, up_is_z: bool) {
+        // Z-up files: rotate -90° about X so +Z becomes +Y.
+        self.world_from_recording =
+            if up_is_z { Mat4::from_angle_x(degrees(-90.0)) } else { Mat4::identity() };
+        let hips_before: Vec<Vec3> = original.trajectory(hips).iter().map(|p| self.to_world(*p)).collect();
+        let hips_after: Vec<Vec3> = corrected.trajectory(hips).iter().map(|p| self.to_world(*p)).collect();
+        // Floor height: the lowest joint of the corrected recording's first frame.
+        let floor_y = corrected
+            .frame(0)
+            .iter()
+            .map(|p| self.to_world(*p).y)
+            .fold(f32::INFINITY, f32::min)
+            .clamp(-10.0, 0.0);
+        let (mut min, mut max) =
+            (vec3(f32::INFINITY, 0.0, f32::INFINITY), vec3(f32::NEG_INFINITY, 0.0, f32::NEG_INFINITY));
+        for p in hips_before.iter().chain(&hips_after) {
+            if p.x.is_finite() && p.z.is_finite() {
+                min = vec3(min.x.min(p.x), 0.0, min.z.min(p.z));
+                max = vec3(max.x.max(p.x), 0.0, max.z.max(p.z));
+            }
+        }
+        if !min.x.is_finite() {
+            (min, max) = (vec3(-1.0, 0.0, -1.0), vec3(1.0, 0.0, 1.0));
+        }
+        // Grid lines every half metre, one metre beyond the paths, at most 100 each way.
+        let step = 0.5;
+        let x0 = ((min.x - 1.0) / step).floor() * step;
+        let x1 = ((max.x + 1.0) / step).ceil() * step;
+        let z0 = ((min.z - 1.0) / step).floor() * step;
+        let z1 = ((max.z + 1.0) / step).ceil() * step;
+        let mut transformations = Vec::new();
+        let mut colors = Vec::new();
+        let line_r = 0.004;
+        let mut x = x0;
+        while x <= x1 + 1e-3 && transformations.len() < 100 {
+            transformations.push(segment(vec3(x, floor_y, z0), vec3(x, floor_y, z1), line_r));
+            colors.push(GRID);
+            x += step;
+        }
+        let mut z = z0;
+        while z <= z1 + 1e-3 && transformations.len() < 200 {
+            transformations.push(segment(vec3(x0, floor_y, z), vec3(x1, floor_y, z), line_r));
+            colors.push(GRID);
+            z += step;
+        }
+        for (trail, color) in [(&hips_before, ORIGINAL_TRAIL), (&hips_after, CORRECTED_TRAIL)] {
+            let stride = (trail.len() / MAX_TRAIL_SEGMENTS).max(1);
+            let points: Vec<Vec3> =
+                trail.iter().step_by(stride).map(|p| vec3(p.x, floor_y + 0.003, p.z)).collect();
+            for w in points.windows(2) {
+                transformations.push(segment(w[0], w[1], 0.012));
+                colors.push(color);
+            }
+        }
+        self.floor.set_instances(&Instances { transformations, colors: Some(colors), ..Default::default() });
+        // Frame the whole path: look at its centre from far enough away.
+        let centre = (min + max) * 0.5;
+        let extent = (max - min).magnitude().max(2.0);
+        self.orbit.target = vec3(centre.x, floor_y + 0.9, centre.z);
+        self.orbit.distance_m = extent * 1.1 + 2.0;
+        let height = hips_after.first().map_or(1.0, |h| h.y - floor_y);
+        self.side_offset = vec3(height.clamp(0.5, 2.0) * 1.2, 0.0, 0.0);
+    }
+
+    /// Moves the skeletons to frame `f`, highlighting the pinned foot.
+    pub fn set_frame(
+        &mut self,
+        original: &Poses,
+        corrected: &Poses,
+        parents: &[Option<usize>],
+        f: usize,
+        pinned: Option<(usize, bool)>,
+    ) {
+        if f >= corrected.frame_count() {
+            return;
+        }
+        let solid: Vec<Vec3> = corrected.frame(f).iter().map(|p| self.to_world(*p)).collect();
+        let (joints, bones) = self.skeleton_instances(&solid, parents, Vec3::new(0.0, 0.0, 0.0));
+        let mut joints = joints;
+        let mut colors = vec![SOLID; joints.len()];
+        if let Some((joint, is_left)) = pinned
+            && let Some(p) = solid.get(joint)
+        {
+            joints.push(ball(*p, PINNED_RADIUS_M));
+            colors.push(if is_left { LEFT_FOOT } else { RIGHT_FOOT });
+        }
+        self.joints.set_instances(&Instances {
+            transformations: joints,
+            colors: Some(colors),
+            ..Default::default()
+        });
+        self.bones.set_instances(&Instances { transformations: bones, ..Default::default() });
+        if self.ghost_mode != GhostMode::Hidden && f < original.frame_count() {
+            let ghost: Vec<Vec3> = original.frame(f).iter().map(|p| self.to_world(*p)).collect();
+            let offset = match self.ghost_mode {
+                GhostMode::SideBySide => solid[0] + self.side_offset - ghost[0],
+                _ => Vec3::new(0.0, 0.0, 0.0),
+            };
+            let (gj, gb) = self.skeleton_instances(&ghost, parents, offset);
+            self.ghost_joints.set_instances(&Instances { transformations: gj, ..Default::default() });
+            self.ghost_bones.set_instances(&Instances { transformations: gb, ..Default::default() });
+        }
+        if self.follow {
+            let hips = solid[0];
+            self.orbit.target = vec3(hips.x, self.orbit.target.y, hips.z);
+            self.orbit.distance_m = self.orbit.distance_m.min(6.0);
+        }
+    }
+
+    fn skeleton_instances(
+        &self,
+        points: &[Vec3],
+        parents: &[Option<usize>],
+        offset: Vec3,
+    ) -> (Vec<Mat4>, Vec<Mat4>) {
+        let joints = points.iter().map(|p| ball(*p + offset, JOINT_RADIUS_M)).collect();
+        let bones = parents
+            .iter()
+            .enumerate()
+            .filter_map(|(j, parent)| {
+                let p = (*parent)?;
+                Some(segment(points[p] + offset, points[j] + offset, BONE_RADIUS_M))
+            })
+            .collect();
+        (joints, bones)
+    }
+
+    pub fn orbit(&mut self, dx_px: f32, dy_px: f32) {
+        self.orbit.yaw -= dx_px * 0.008;
+        self.orbit.pitch = (self.orbit.pitch + dy_px * 0.008).clamp(-0.1, 1.5);
+    }
+
+    pub fn zoom(&mut self, factor: f32) {
+        self.orbit.distance_m = (self.orbit.distance_m * factor.clamp(0.2, 5.0)).clamp(0.5, 200.0);
+    }
+
+    /// Moves the target in the view plane by a drag of (dx, dy) pixels.
+    pub fn pan(&mut self, dx_px: f32, dy_px: f32) {
+        let scale = self.orbit.distance_m * 0.0015;
+        let right = vec3(self.orbit.yaw.cos(), 0.0, -self.orbit.yaw.sin());
+        let forward = vec3(-self.orbit.yaw.sin(), 0.0, -self.orbit.yaw.cos());
+        self.orbit.target += right * (-dx_px * scale) + forward * (dy_px * scale);
+        self.follow = false;
+    }
+
+    /// Renders into the canvas (size in device pixels).
+    pub fn render(&mut self, width: u32, height: u32) {
+        self.camera.set_viewport(Viewport::new_at_origo(width.max(1), height.max(1)));
+        self.camera.set_view(self.orbit.position(), self.orbit.target, vec3(0.0, 1.0, 0.0));
+        let lights: [&dyn Light; 2] = [&self.ambient, &self.sun];
+        let target = RenderTarget::screen(&self.context, width.max(1), height.max(1));
+        target.clear(ClearState::color_and_depth(0.11, 0.12, 0.14, 1.0, 1.0));
+        target.render(&self.camera, &self.floor, &[]);
+        target.render(&self.camera, self.joints.into_iter().chain(&self.bones), &lights);
+        if self.ghost_mode != GhostMode::Hidden {
+            target.render(&self.camera, self.ghost_joints.into_iter().chain(&self.ghost_bones), &lights);
+        }
+    }
+}

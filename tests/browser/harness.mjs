@@ -1,0 +1,106 @@
+// Shared by the browser tests and the browser benchmark: a static server for
+// dist/ (plus the shared recordings under /data/, read in place, never
+// copied) and Debian's Chromium driven by playwright-core.
+import { createServer } from "node:http";
+import { readFile, stat } from "node:fs/promises";
+import { existsSync } from "node:fs";
+import { extname, join, normalize, resolve } from "node:path";
+import { fileURLToPath } from "node:url";
+import { chromium } from "playwright-core";
+
+export const ROOT = resolve(fileURLToPath(new URL("../..", import.meta.url)));
+export const DIST = join(ROOT, "dist");
+export const DATA = resolve(ROOT, "../shared/data");
+export const HAVE_DATA = existsSync(DATA);
+export const SCREENSHOTS = join(ROOT, "target", "screenshots");
+
+const TYPES = {
+  ".html": "text/html", ".js": "text/javascript", ".mjs": "text/javascript", ".css": "text/css",
+  ".wasm": "application/wasm", ".bvh": "text/plain", ".csv": "text/csv", ".png": "image/png",
+};
+
+/** Serves dist/ at /, ../shared/data at /data/, and `extra` pages by path. */
+export async function startServer(extra = {}) {
+  const server = createServer(async (req, res) => {
+    const path = decodeURIComponent(new URL(req.url, "http://x").pathname);
+    if (extra[path]) {
+      res.writeHead(200, { "content-type": "text/html" });
+      res.end(extra[path]);
+      return;
+    }
+    const [base, rest] = path.startsWith("/data/")
+      ? [DATA, path.slice(6)]
+      : path.startsWith("/node_modules/three/") // three.js, for the benchmark's comparison only
+        ? [join(ROOT, "node_modules/three"), path.slice("/node_modules/three/".length)]
+        : [DIST, path.slice(1) || "index.html"];
+    const file = normalize(join(base, rest));
+    try {
+      if (!file.startsWith(base) || !(await stat(file)).isFile()) throw new Error("not a file");
+      res.writeHead(200, { "content-type": TYPES[extname(file)] ?? "application/octet-stream" });
+      res.end(await readFile(file));
+    } catch {
+      res.writeHead(404);
+      res.end("not found");
+    }
+  });
+  await new Promise((ok) => server.listen(0, "127.0.0.1", ok));
+  const url = `http://127.0.0.1:${server.address().port}`;
+  return { url, close: () => new Promise((ok) => server.close(ok)) };
+}
+
+/** Headless Chromium from Debian with software WebGL2 (never a downloaded browser). */
+export function launchBrowser() {
+  return chromium.launch({
+    executablePath: "/usr/bin/chromium",
+    args: [
+      "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+      "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run",
+    ],
+  });
+}
+
+/** Opens `path` and waits until the player in `selector` has a recording. */
+export async function openApp(browser, url, path = "/", selector = "#app") {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 }, acceptDownloads: true });
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(String(e)));
+  page.on("console", (m) => m.type() === "error" && errors.push(m.text()));
+  await page.goto(url + path);
+  await waitReady(page, selector);
+  return { page, errors };
+}
+
+export async function waitReady(page, selector = "#app") {
+  await page.waitForFunction(
+    (sel) => {
+      const el = document.querySelector(sel);
+      return el?.embusen?.player && el.dataset.state === "ready" && el.embusen.player.frame_count() > 0;
+    },
+    selector,
+    { timeout: 30000 },
+  );
+}
+
+/**
+ * Counts the pixels of a canvas that differ from its background (the colour
+ * at the top-left corner), optionally only within [x, y, w, h] in canvas pixels.
+ */
+export function countDrawnPixels(page, canvasSelector, rect) {
+  return page.evaluate(([sel, rect]) => {
+    const source = document.querySelector(sel);
+    const copy = document.createElement("canvas");
+    copy.width = source.width;
+    copy.height = source.height;
+    const ctx = copy.getContext("2d");
+    ctx.drawImage(source, 0, 0);
+    const [x, y, w, h] = rect ?? [0, 0, copy.width, copy.height];
+    const bg = ctx.getImageData(0, 0, 1, 1).data;
+    const data = ctx.getImageData(Math.floor(x), Math.floor(y), Math.max(1, Math.floor(w)), Math.max(1, Math.floor(h))).data;
+    let count = 0;
+    for (let i = 0; i < data.length; i += 4) {
+      const d = Math.abs(data[i] - bg[0]) + Math.abs(data[i + 1] - bg[1]) + Math.abs(data[i + 2] - bg[2]);
+      if (d > 60) count++;
+    }
+    return count;
+  }, [canvasSelector, rect ?? null]);
+}
