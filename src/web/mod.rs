@@ -63,7 +63,7 @@ impl Player {
     pub fn new(view: HtmlCanvasElement, plots: HtmlCanvasElement) -> Result<Player, JsError> {
         // `preserveDrawingBuffer` lets tests and screenshots read the pixels.
         let options = js_sys::Object::new();
-        for (key, value) in [("preserveDrawingBuffer", true), ("antialias", true)] {
+        for (key, value) in [("preserveDrawingBuffer", true), ("antialias", false)] {
             js_sys::Reflect::set(&options, &key.into(), &value.into())
                 .map_err(|_| js_error("cannot set WebGL options"))?;
         }

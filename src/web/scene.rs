@@ -1,8 +1,10 @@
 //! The 3D view: three-d rendering into a canvas that JavaScript created.
 //!
-//! Everything is drawn from two instanced meshes (a unit sphere for joints, a
-//! unit cylinder for bones, floor lines and trails), so a frame costs a handful
-//! of draw calls whatever the skeleton. Positions arrive in the recording's
+//! Skeletons are drawn from two instanced meshes (a unit sphere for joints, a
+//! unit cylinder for bones), so a frame costs a handful of draw calls whatever
+//! the skeleton. The floor is flat geometry: one quad with a repeating grid
+//! texture, and the hips trails as ribbons of two triangles a segment. (Trails
+//! of cylinders and grid lines of cylinders cost software WebGL ~150 ms a frame.) Positions arrive in the recording's
 //! centimetres and are drawn in metres, turned upright by `world_from_recording`.
 
 use three_d::*;
@@ -26,12 +28,15 @@ const PINNED_RADIUS_M: f32 = 0.06;
 /// Trails are decimated to at most this many segments, so that a 100,000-frame
 /// recording draws as fast as a short one.
 const MAX_TRAIL_SEGMENTS: usize = 3000;
+const TRAIL_HALF_WIDTH_M: f32 = 0.012;
 
 const SOLID: Srgba = Srgba::new(235, 235, 240, 255);
 const GHOST: Srgba = Srgba::new(120, 160, 255, 90);
 const CORRECTED_TRAIL: Srgba = Srgba::new(255, 200, 40, 255);
 const ORIGINAL_TRAIL: Srgba = Srgba::new(90, 140, 255, 200);
-const GRID: Srgba = Srgba::new(70, 74, 82, 255);
+const GRID: [u8; 4] = [70, 74, 82, 255];
+/// Grid spacing on the floor.
+const GRID_CELL_M: f32 = 0.5;
 const LEFT_FOOT: Srgba = Srgba::new(255, 90, 90, 255);
 const RIGHT_FOOT: Srgba = Srgba::new(70, 200, 120, 255);
 
@@ -68,8 +73,12 @@ pub struct Scene {
     bones: Gm<InstancedMesh, PhysicalMaterial>,
     ghost_joints: Gm<InstancedMesh, PhysicalMaterial>,
     ghost_bones: Gm<InstancedMesh, PhysicalMaterial>,
-    /// Floor grid and hips trails: rebuilt only when the recording changes.
-    floor: Gm<InstancedMesh, ColorMaterial>,
+    /// Hips trails: rebuilt only when the recording changes.
+    trails: Gm<Mesh, ColorMaterial>,
+    /// The floor: one quad under the whole path, textured with one grid cell.
+    grid: Gm<Mesh, ColorMaterial>,
+    /// The hips joint, which follow mode keeps in view.
+    hips: usize,
     ambient: AmbientLight,
     sun: DirectionalLight,
     /// Sideways offset of the ghost in side-by-side mode (m).
@@ -111,6 +120,36 @@ fn ball(p: Vec3, r: f32) -> Mat4 {
     Mat4::from_translation(p) * Mat4::from_scale(r)
 }
 
+/// Appends a flat ribbon along `points` (on the floor, `TRAIL_HALF_WIDTH_M`
+/// to each side) to `mesh`, as unindexed triangles.
+fn add_ribbon(mesh: &mut CpuMesh, points: &[Vec3], color: Srgba) {
+    let (Positions::F32(positions), Some(colors)) = (&mut mesh.positions, &mut mesh.colors) else { return };
+    for w in points.windows(2) {
+        let along = vec3(w[1].x - w[0].x, 0.0, w[1].z - w[0].z);
+        if along.magnitude2() < 1e-12 {
+            continue;
+        }
+        let side = vec3(-along.z, 0.0, along.x).normalize() * TRAIL_HALF_WIDTH_M;
+        let [a, b, c, d] = [w[0] - side, w[0] + side, w[1] + side, w[1] - side];
+        positions.extend([a, b, c, a, c, d]);
+        colors.extend([color; 6]);
+    }
+}
+
+/// One grid cell as a texture: a line along two edges, transparent inside;
+/// repeated across the floor quad by its texture coordinates.
+fn grid_cell() -> CpuTexture {
+    const SIZE: usize = 64;
+    let data =
+        (0..SIZE * SIZE).map(|i| if i % SIZE < 2 || i / SIZE < 2 { GRID } else { [0, 0, 0, 0] }).collect();
+    CpuTexture {
+        data: TextureData::RgbaU8(data),
+        width: SIZE as u32,
+        height: SIZE as u32,
+        ..Default::default()
+    }
+}
+
 impl Scene {
     pub fn new(context: Context) -> Scene {
         let sphere = CpuMesh::sphere(12);
@@ -124,16 +163,29 @@ impl Scene {
             0.05,
             500.0,
         );
-        let floor = Gm::new(
-            InstancedMesh::new(&context, &Instances::default(), &cylinder),
+        let trails = Gm::new(
+            Mesh::new(&context, &CpuMesh::square()),
             ColorMaterial::new_opaque(&context, &CpuMaterial { albedo: Srgba::WHITE, ..Default::default() }),
+        );
+        let grid = Gm::new(
+            Mesh::new(&context, &CpuMesh::square()),
+            ColorMaterial::new_transparent(
+                &context,
+                &CpuMaterial {
+                    albedo: Srgba::WHITE,
+                    albedo_texture: Some(grid_cell()),
+                    ..Default::default()
+                },
+            ),
         );
         Scene {
             joints: instanced(&context, &sphere, SOLID, false),
             bones: instanced(&context, &cylinder, SOLID, false),
             ghost_joints: instanced(&context, &sphere, GHOST, true),
             ghost_bones: instanced(&context, &cylinder, GHOST, true),
-            floor,
+            trails,
+            grid,
+            hips: 0,
             ambient: AmbientLight::new(&context, 0.45, Srgba::WHITE),
             sun: DirectionalLight::new(&context, 2.2, Srgba::WHITE, vec3(-0.4, -1.0, -0.6)),
             camera,
@@ -177,37 +229,37 @@ impl Scene {
         if !min.x.is_finite() {
             (min, max) = (vec3(-1.0, 0.0, -1.0), vec3(1.0, 0.0, 1.0));
         }
-        // Grid lines every half metre, one metre beyond the paths, at most 100 each way.
-        let step = 0.5;
-        let x0 = ((min.x - 1.0) / step).floor() * step;
-        let x1 = ((max.x + 1.0) / step).ceil() * step;
-        let z0 = ((min.z - 1.0) / step).floor() * step;
-        let z1 = ((max.z + 1.0) / step).ceil() * step;
-        let mut transformations = Vec::new();
-        let mut colors = Vec::new();
-        let line_r = 0.004;
-        let mut x = x0;
-        while x <= x1 + 1e-3 && transformations.len() < 100 {
-            transformations.push(segment(vec3(x, floor_y, z0), vec3(x, floor_y, z1), line_r));
-            colors.push(GRID);
-            x += step;
-        }
-        let mut z = z0;
-        while z <= z1 + 1e-3 && transformations.len() < 200 {
-            transformations.push(segment(vec3(x0, floor_y, z), vec3(x1, floor_y, z), line_r));
-            colors.push(GRID);
-            z += step;
-        }
+        // The grid reaches one metre beyond the paths, snapped to whole cells
+        // so that the lines stay put when the recording changes.
+        let snap = |v: f32, up: bool| {
+            let cells = v / GRID_CELL_M;
+            (if up { cells.ceil() } else { cells.floor() }) * GRID_CELL_M
+        };
+        let (x0, x1) = (snap(min.x - 1.0, false), snap(max.x + 1.0, true));
+        let (z0, z1) = (snap(min.z - 1.0, false), snap(max.z + 1.0, true));
+        let corners =
+            [vec3(x0, floor_y, z0), vec3(x1, floor_y, z0), vec3(x1, floor_y, z1), vec3(x0, floor_y, z1)];
+        let quad = CpuMesh {
+            positions: Positions::F32(corners.to_vec()),
+            indices: Indices::U8(vec![0, 2, 1, 0, 3, 2]),
+            uvs: Some(corners.iter().map(|c| vec2(c.x / GRID_CELL_M, c.z / GRID_CELL_M)).collect()),
+            ..Default::default()
+        };
+        self.grid.geometry = Mesh::new(&self.context, &quad);
+        let mut ribbons =
+            CpuMesh { positions: Positions::F32(Vec::new()), colors: Some(Vec::new()), ..Default::default() };
         for (trail, color) in [(&hips_before, ORIGINAL_TRAIL), (&hips_after, CORRECTED_TRAIL)] {
             let stride = (trail.len() / MAX_TRAIL_SEGMENTS).max(1);
-            let points: Vec<Vec3> =
-                trail.iter().step_by(stride).map(|p| vec3(p.x, floor_y + 0.003, p.z)).collect();
-            for w in points.windows(2) {
-                transformations.push(segment(w[0], w[1], 0.012));
-                colors.push(color);
-            }
+            let points: Vec<Vec3> = trail
+                .iter()
+                .step_by(stride)
+                .filter(|p| p.x.is_finite() && p.z.is_finite())
+                .map(|p| vec3(p.x, floor_y + 0.003, p.z))
+                .collect();
+            add_ribbon(&mut ribbons, &points, color);
         }
-        self.floor.set_instances(&Instances { transformations, colors: Some(colors), ..Default::default() });
+        self.trails.geometry = Mesh::new(&self.context, &ribbons);
+        self.hips = hips;
         // Frame the whole path: look at its centre from far enough away.
         let centre = (min + max) * 0.5;
         let extent = (max - min).magnitude().max(2.0);
@@ -248,15 +300,16 @@ impl Scene {
         if self.ghost_mode != GhostMode::Hidden && f < original.frame_count() {
             let ghost: Vec<Vec3> = original.frame(f).iter().map(|p| self.to_world(*p)).collect();
             let offset = match self.ghost_mode {
-                GhostMode::SideBySide => solid[0] + self.side_offset - ghost[0],
+                GhostMode::SideBySide => solid[self.hips] + self.side_offset - ghost[self.hips],
                 _ => Vec3::new(0.0, 0.0, 0.0),
             };
             let (gj, gb) = self.skeleton_instances(&ghost, parents, offset);
             self.ghost_joints.set_instances(&Instances { transformations: gj, ..Default::default() });
             self.ghost_bones.set_instances(&Instances { transformations: gb, ..Default::default() });
         }
-        if self.follow {
-            let hips = solid[0];
+        if self.follow
+            && let Some(&hips) = solid.get(self.hips)
+        {
             self.orbit.target = vec3(hips.x, self.orbit.target.y, hips.z);
             self.orbit.distance_m = self.orbit.distance_m.min(6.0);
         }
@@ -305,7 +358,7 @@ impl Scene {
         let lights: [&dyn Light; 2] = [&self.ambient, &self.sun];
         let target = RenderTarget::screen(&self.context, width.max(1), height.max(1));
         target.clear(ClearState::color_and_depth(0.11, 0.12, 0.14, 1.0, 1.0));
-        target.render(&self.camera, &self.floor, &[]);
+        target.render(&self.camera, self.grid.into_iter().chain(&self.trails), &[]);
         target.render(&self.camera, self.joints.into_iter().chain(&self.bones), &lights);
         if self.ghost_mode != GhostMode::Hidden {
             target.render(&self.camera, self.ghost_joints.into_iter().chain(&self.ghost_bones), &lights);

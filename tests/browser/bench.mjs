@@ -45,21 +45,26 @@ const PAGE = `<!doctype html><html><head>
     const gl = document.querySelector("#v").getContext("webgl2");
     const player = new Player(document.querySelector("#v"), document.querySelector("#p"));
     player.resize(640, 480, 640, 480);
+    // Two figures: until every draw call of the first frame (3D view and
+    // plots) is issued, and until the GPU has finished it (a pixel read waits
+    // for it). Here the GPU is software (swiftshader), which dominates the second.
     const firstFrame = (b) => {
       const s = performance.now();
       player.load("x.bvh", b);
       player.draw();
-      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4)); // wait for the GPU
-      return performance.now() - s;
+      const issued = performance.now() - s;
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+      return [issued, performance.now() - s];
     };
-    const firstNidan = median([0, 1, 2, 3, 4].map(() => firstFrame(bytes)));
+    const medianPair = (pairs) => [median(pairs.map((p) => p[0])), median(pairs.map((p) => p[1]))];
+    const firstNidan = medianPair([0, 1, 2, 3, 4].map(() => firstFrame(bytes)));
     // 100,000 frames: the kata's rows repeated.
     const [head, body] = text.split(/Frame Time:[^\\n]*\\n/);
     const rows = body.split("\\n").filter((r) => r.trim());
     const big = [head.replace(/Frames:\\s*\\d+/, "Frames: 100000"), "Frame Time: 0.01"];
     for (let i = 0; i < 100000; i++) big.push(rows[i % rows.length]);
     const bigBytes = new TextEncoder().encode(big.join("\\n") + "\\n");
-    const firstBig = median([0, 1, 2].map(() => firstFrame(bigBytes)));
+    const firstBig = medianPair([0, 1, 2].map(() => firstFrame(bigBytes)));
     return { ours, theirs, firstNidan, firstBig, bigMB: bigBytes.length / 1e6, frames: player.frame_count() };
   };
   window.ready = true;
@@ -98,8 +103,9 @@ try {
   const r = await page.evaluate((runs) => window.bench(runs), 15);
   console.log("in headless Chromium (software WebGL):");
   console.log(`  parse + kinematics, heian_nidan.bvh: embusen ${r.ours.toFixed(2)} ms, three.js BVHLoader ${r.theirs.toFixed(2)} ms → ${(r.theirs / r.ours).toFixed(1)}× (goal ≥ 3×)`);
-  console.log(`  bytes → first frame drawn, heian_nidan.bvh: ${r.firstNidan.toFixed(1)} ms (goal ≤ 100 ms)`);
-  console.log(`  bytes → first frame drawn, ${r.frames} frames (${r.bigMB.toFixed(1)} MB): ${r.firstBig.toFixed(0)} ms (goal < 1000 ms)`);
+  const first = ([issued, done]) => `${issued.toFixed(1)} ms issued, ${done.toFixed(1)} ms rendered by the software GPU`;
+  console.log(`  bytes → first frame, heian_nidan.bvh: ${first(r.firstNidan)} (goal ≤ 100 ms)`);
+  console.log(`  bytes → first frame, ${r.frames} frames (${r.bigMB.toFixed(1)} MB): ${first(r.firstBig)} (goal < 1000 ms)`);
 } finally {
   await browser.close();
   await server.close();

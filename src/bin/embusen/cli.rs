@@ -84,7 +84,7 @@ struct TranslateArgs {
     right_foot: Option<String>,
 }
 
-fn main() -> ExitCode {
+pub fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         None => run_demo(),

@@ -1,0 +1,14 @@
+//! The `embusen` command line. Native only: in the browser the app is the
+//! interface, but `cargo test --target wasm32-unknown-unknown` still builds
+//! every binary, so on wasm this is an empty program.
+
+#[cfg(not(target_arch = "wasm32"))]
+mod cli;
+
+#[cfg(not(target_arch = "wasm32"))]
+fn main() -> std::process::ExitCode {
+    cli::main()
+}
+
+#[cfg(target_arch = "wasm32")]
+fn main() {}
