@@ -6,13 +6,17 @@
 //! - [`kinematics`] turns channels into global joint positions ([`skeleton::Poses`]),
 //! - [`signals`] smooths and differentiates per-frame signals,
 //! - [`paper`] is Hachaj & Ogiela's translation method,
+//! - [`contact`] is embusen's own: foot contacts frame by frame, with flight,
+//! - [`eval`] measures both against recordings whose true root motion is known,
 //! - [`metrics`] measures floor paths (length, error, closure),
 //! - [`recording`] ties a file to the method and writes the result back,
 //! - [`demo`] generates the built-in synthetic recording.
 
 pub mod bvh;
+pub mod contact;
 pub mod demo;
 pub mod error;
+pub mod eval;
 pub mod feet;
 pub mod kinematics;
 pub mod metrics;

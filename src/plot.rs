@@ -7,7 +7,8 @@
 //! - (a) the smoothed foot signal that pass 1 compares,
 //! - (b) the foot heights before correction and (c) after it,
 //! - (d) the hips' path on the floor seen from above, original and corrected,
-//! - (e) the stance strip: which foot was held still in each frame, and why.
+//! - (e) the stance strip: which foot was held still in each frame, and why
+//!   (or, for the contact method, which feet were on the floor).
 //!
 //! The time panels (a), (b), (c) and (e) share one time axis, numbered under
 //! (e), so a single cursor lines up across them. Left is always
@@ -36,6 +37,8 @@ pub enum StanceReason {
     Height,
     /// Both passes pinned this foot.
     Both,
+    /// The contact method: this foot alone is on the floor.
+    Contact,
 }
 
 /// One frame of the stance strip.
@@ -46,6 +49,16 @@ pub enum Stance {
     Pinned(Foot, StanceReason),
     /// Neither foot on the floor (running, jumps).
     Flight,
+    /// Both feet on the floor: the contact method's double support.
+    Double,
+}
+
+impl Stance {
+    /// True for the contact method's decisions that the paper method never
+    /// makes: one foot alone on the floor, or both.
+    pub const fn is_contact(self) -> bool {
+        matches!(self, Stance::Pinned(_, StanceReason::Contact) | Stance::Double)
+    }
 }
 
 /// Everything the plots show, frame by frame. Pairs are `[left, right]`.
@@ -233,9 +246,10 @@ const PLOT_BACKGROUND: Rgba = Rgba(255, 255, 255, 9);
 /// A dark ring under cursor dots, so they stand out on any line.
 const HALO_COLOR: Rgba = Rgba(0, 0, 0, 170);
 
-/// The stance categories in legend order; [`stance_color`] gives each a
-/// distinct colour.
-const STANCE_KINDS: [Stance; 8] = [
+/// The stance categories: the paper method's in [`STANCE_LEGEND`] order, then
+/// the contact method's. [`stance_color`] gives the kinds of each method's
+/// legend distinct colours.
+const STANCE_KINDS: [Stance; 11] = [
     Stance::Pinned(Foot::Left, StanceReason::Acceleration),
     Stance::Pinned(Foot::Left, StanceReason::Height),
     Stance::Pinned(Foot::Left, StanceReason::Both),
@@ -244,11 +258,17 @@ const STANCE_KINDS: [Stance; 8] = [
     Stance::Pinned(Foot::Right, StanceReason::Both),
     Stance::Free,
     Stance::Flight,
+    Stance::Pinned(Foot::Left, StanceReason::Contact),
+    Stance::Pinned(Foot::Right, StanceReason::Contact),
+    Stance::Double,
 ];
 
 /// The colour of a stance in the strip (e). Each foot keeps its hue, from
 /// light (pinned by acceleration only) through its own colour (by height
 /// only) to dark (both passes agree); no foot pinned is grey, flight violet.
+/// The contact method's single support is the foot's own colour (as the
+/// paper's "height" is: the two methods never share a strip), its double
+/// support a light warm grey.
 pub const fn stance_color(stance: Stance) -> Rgba {
     match stance {
         Stance::Pinned(Foot::Left, StanceReason::Acceleration) => Rgba(255, 176, 168, 255),
@@ -259,6 +279,9 @@ pub const fn stance_color(stance: Stance) -> Rgba {
         Stance::Pinned(Foot::Right, StanceReason::Both) => Rgba(22, 128, 68, 255),
         Stance::Free => Rgba(88, 93, 104, 255),
         Stance::Flight => Rgba(164, 124, 255, 255),
+        Stance::Pinned(Foot::Left, StanceReason::Contact) => LEFT_COLOR,
+        Stance::Pinned(Foot::Right, StanceReason::Contact) => RIGHT_COLOR,
+        Stance::Double => Rgba(226, 221, 204, 255),
     }
 }
 
@@ -300,7 +323,8 @@ const PATH_LEGEND: [LegendItem; 2] = [
     item(Swatch::Line(ORIGINAL_COLOR, true), "original"),
     item(Swatch::Line(CORRECTED_COLOR, false), "corrected"),
 ];
-/// The stance legend in groups that are kept on one row when they fit.
+/// The paper method's stance legend in groups that are kept on one row when
+/// they fit.
 const STANCE_LEGEND: [&[LegendItem]; 3] = [
     &[
         item(Swatch::Label, "left:"),
@@ -319,6 +343,41 @@ const STANCE_LEGEND: [&[LegendItem]; 3] = [
         item(Swatch::Block(stance_color(STANCE_KINDS[7])), "flight"),
     ],
 ];
+/// The contact method's stance legend, grouped as [`STANCE_LEGEND`].
+const CONTACT_LEGEND: [&[LegendItem]; 2] = [
+    &[
+        item(Swatch::Block(stance_color(STANCE_KINDS[8])), "left foot"),
+        item(Swatch::Block(stance_color(STANCE_KINDS[9])), "right foot"),
+    ],
+    &[
+        item(Swatch::Block(stance_color(STANCE_KINDS[10])), "both feet"),
+        item(Swatch::Block(stance_color(STANCE_KINDS[7])), "flight"),
+    ],
+];
+/// Every legend (e) may draw. [`layout`] leaves room for the tallest, so the
+/// panels do not move with the data.
+const STANCE_LEGENDS: [&[&[LegendItem]]; 2] = [&STANCE_LEGEND, &CONTACT_LEGEND];
+
+/// The legend and titles (longest first) of (e) for `stance`: the contact
+/// method's when any frame has one of its decisions, else the paper's.
+fn stance_legend(stance: &[Stance]) -> (&'static [&'static [LegendItem]], &'static [&'static str]) {
+    if stance.iter().any(|s| s.is_contact()) {
+        (
+            &CONTACT_LEGEND,
+            &["(e) stance: which feet are on the floor", "(e) feet on the floor", "(e) feet", "(e)"],
+        )
+    } else {
+        (
+            &STANCE_LEGEND,
+            &[
+                "(e) stance: which foot is pinned, and why",
+                "(e) pinned foot, and why",
+                "(e) pinned foot",
+                "(e)",
+            ],
+        )
+    }
+}
 
 // Legend geometry, in units of the font size.
 const SWATCH_LINE: f32 = 1.4;
@@ -609,7 +668,8 @@ pub fn layout(width: f32, height: f32) -> Layout {
             outer.h - HEADER * f - below,
         )
     };
-    let (_, legend_rows) = flow_legend(&STANCE_LEGEND, time_column.w, f);
+    let legend_rows =
+        STANCE_LEGENDS.iter().map(|legend| flow_legend(legend, time_column.w, f).1).max().unwrap_or(0);
     let stance_h = (HEADER + STRIP + 2.0 * AXIS_ROW + LEGEND_ROW * legend_rows as f32) * f;
     let series_plot_h = ((time_column.h - stance_h - 3.0 * gap - 3.0 * HEADER * f) / 3.0).max(0.0);
     let mut y = time_column.y;
@@ -1244,7 +1304,7 @@ fn draw_stance_bar(fig: &mut Figure, plot: Rect, time: &TimeAxis, stance: &[Stan
     let mut kinds: Vec<Option<usize>> = vec![None; columns];
     let mut counts = [0u32; STANCE_KINDS.len()];
     let mut column = None;
-    let majority = |counts: &[u32; 8]| {
+    let majority = |counts: &[u32; STANCE_KINDS.len()]| {
         let (kind, &count) = counts.iter().enumerate().max_by_key(|(i, c)| (**c, std::cmp::Reverse(*i)))?;
         (count > 0).then_some(kind)
     };
@@ -1254,7 +1314,7 @@ fn draw_stance_bar(fig: &mut Figure, plot: Rect, time: &TimeAxis, stance: &[Stan
             if let Some(prev) = column {
                 kinds[prev] = majority(&counts);
             }
-            counts = [0; 8];
+            counts = [0; STANCE_KINDS.len()];
             column = Some(c);
         }
         counts[stance_index(*s)] += 1;
@@ -1300,15 +1360,14 @@ fn draw_stance_panel(fig: &mut Figure, layout: &Layout, time: &TimeAxis, stance:
     let ticks: Vec<(f32, String)> =
         time.ticks(plot.w, f).into_iter().map(|(frame, label)| (time.x(plot, frame), label)).collect();
     draw_x_axis(fig, plot, f, &ticks, time.title());
-    let (placed, _) = flow_legend(&STANCE_LEGEND, outer.w, f);
+    let (legend, titles) = stance_legend(stance);
+    let (placed, _) = flow_legend(legend, outer.w, f);
     let legend_top = plot.bottom() + 2.0 * AXIS_ROW * f;
-    for (it, (dx, row)) in STANCE_LEGEND.iter().copied().flatten().zip(placed) {
+    for (it, (dx, row)) in legend.iter().copied().flatten().zip(placed) {
         let y = legend_top + (row as f32 + 0.5) * LEGEND_ROW * f;
         draw_legend_item(fig, it, outer.x + dx, y, f);
     }
-    let titles =
-        ["(e) stance: which foot is pinned, and why", "(e) pinned foot, and why", "(e) pinned foot", "(e)"];
-    draw_header(fig, outer, f, &titles, &[], readout_reserve_px(outer));
+    draw_header(fig, outer, f, titles, &[], readout_reserve_px(outer));
 }
 
 /// Everything that does not move with the time cursor: titles, legends,
@@ -1376,6 +1435,9 @@ fn stance_words(stance: Stance) -> (&'static str, &'static str) {
         }
         Stance::Pinned(Foot::Right, Height) => ("right foot pinned: lower (height)", "right, height"),
         Stance::Pinned(Foot::Right, Both) => ("right foot pinned: calmer and lower", "right, both"),
+        Stance::Pinned(Foot::Left, Contact) => ("left foot on the floor", "left foot"),
+        Stance::Pinned(Foot::Right, Contact) => ("right foot on the floor", "right foot"),
+        Stance::Double => ("both feet on the floor", "both feet"),
     }
 }
 
@@ -1962,12 +2024,148 @@ mod tests {
         assert_eq!(Rgba(0, 0, 0, 0).to_css(), "rgba(0,0,0,0.000)");
     }
 
+    /// The stance kinds `legend` names, by their swatches.
+    fn kinds_in(legend: &[&[LegendItem]]) -> Vec<Stance> {
+        let colors: Vec<Swatch> = legend.iter().copied().flatten().map(|it| it.swatch).collect();
+        let paper = std::ptr::eq(legend, &STANCE_LEGEND[..]);
+        STANCE_KINDS
+            .iter()
+            .copied()
+            .filter(|k| k.is_contact() != paper || *k == Stance::Flight)
+            .filter(|k| colors.contains(&Swatch::Block(stance_color(*k))))
+            .collect()
+    }
+
     #[test]
     fn the_stance_legend_names_every_colour_once() {
-        let colors: Vec<Rgba> = STANCE_KINDS.iter().map(|k| stance_color(*k)).collect();
-        for (i, c) in colors.iter().enumerate() {
-            assert!(!colors[..i].contains(c), "two stances share {c:?}");
-            assert!(STANCE_LEGEND.iter().copied().flatten().any(|it| it.swatch == Swatch::Block(*c)));
+        // Each legend's kinds have distinct colours, and every kind is in one.
+        for legend in STANCE_LEGENDS {
+            let kinds = kinds_in(legend);
+            let colors: Vec<Rgba> = kinds.iter().map(|k| stance_color(*k)).collect();
+            for (i, c) in colors.iter().enumerate() {
+                assert!(!colors[..i].contains(c), "two stances share {c:?}");
+            }
+            let blocks = legend.iter().copied().flatten().filter(|it| matches!(it.swatch, Swatch::Block(_)));
+            assert_eq!(blocks.count(), kinds.len(), "{kinds:?}");
         }
+        let paper = kinds_in(&STANCE_LEGEND);
+        let contact = kinds_in(&CONTACT_LEGEND);
+        for k in STANCE_KINDS {
+            assert!(paper.contains(&k) || contact.contains(&k), "{k:?} is in no legend");
+            assert!(!k.is_contact() || !paper.contains(&k), "{k:?} in the paper legend");
+        }
+        assert_eq!(contact.len(), 4);
+        // The contact method's feet are the feet's own colours; double
+        // support is none of the strip's other colours, nor the corrected trail's.
+        assert_eq!(stance_color(Stance::Pinned(Foot::Left, StanceReason::Contact)), LEFT_COLOR);
+        assert_eq!(stance_color(Stance::Pinned(Foot::Right, StanceReason::Contact)), RIGHT_COLOR);
+        let double = stance_color(Stance::Double);
+        assert_ne!(double, CORRECTED_COLOR);
+        for k in STANCE_KINDS.into_iter().filter(|k| *k != Stance::Double) {
+            assert_ne!(stance_color(k), double, "{k:?}");
+        }
+    }
+
+    /// `n` frames of [`synthetic`] data whose stances are the contact method's.
+    fn synthetic_contact(n: usize) -> PlotData {
+        let kinds = [
+            Stance::Pinned(Foot::Left, StanceReason::Contact),
+            Stance::Double,
+            Stance::Pinned(Foot::Right, StanceReason::Contact),
+            Stance::Double,
+            Stance::Flight,
+        ];
+        PlotData { stance: (0..n).map(|f| kinds[(f / 37) % kinds.len()]).collect(), ..synthetic(n) }
+    }
+
+    /// The texts drawn inside `r`.
+    fn texts_in(fig: &Figure, r: Rect) -> Vec<&str> {
+        fig.shapes
+            .iter()
+            .filter_map(|s| match s {
+                Shape::Text { x, y, text, .. } if r.contains(*x, *y) => Some(text.as_str()),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn contact_stances_draw_the_contact_legend() {
+        let contact = synthetic_contact(1000);
+        let paper = synthetic(1000);
+        for (w, h) in SIZES {
+            let l = layout(w, h);
+            let PanelRects { outer, plot } = l.panel(Panel::Stance);
+            let fig = draw_static(&contact, &l);
+            assert!(all_finite(&fig));
+            let texts = texts_in(&fig, outer);
+            for t in ["left foot", "right foot", "both feet", "flight"] {
+                assert!(texts.contains(&t), "no {t:?} in (e) at {w}×{h}: {texts:?}");
+            }
+            for t in ["acceleration", "height", "both", "none pinned", "left:", "right:"] {
+                assert!(!texts.contains(&t), "paper legend's {t:?} in (e) at {w}×{h}");
+            }
+            let title = texts.iter().find(|t| t.starts_with("(e)")).expect("a title");
+            assert!(!title.contains("pinned"), "{title:?}");
+            // The strip shows each of the contact method's colours.
+            for k in kinds_in(&CONTACT_LEGEND) {
+                let color = stance_color(k);
+                let shown = fig.shapes.iter().any(
+                    |s| matches!(s, Shape::Rect { x, y, color: c, .. } if *c == color && plot.contains(*x, *y)),
+                );
+                assert!(shown, "{k:?} not in the strip at {w}×{h}");
+            }
+            // The legend stays inside (e), under the strip and its axis.
+            for s in &fig.shapes {
+                let (x, y) = anchor(s);
+                if outer.contains(x, y) && y > plot.bottom() + 2.0 * AXIS_ROW * l.font_px {
+                    assert!(y <= outer.bottom(), "{s:?} below (e) at {w}×{h}");
+                }
+            }
+
+            // Paper data still draws the paper legend and title.
+            let fig = draw_static(&paper, &l);
+            let texts = texts_in(&fig, outer);
+            for t in ["left:", "right:", "acceleration", "height", "none pinned", "flight"] {
+                assert!(texts.contains(&t), "no {t:?} in (e) at {w}×{h}: {texts:?}");
+            }
+            for t in ["left foot", "right foot", "both feet"] {
+                assert!(!texts.contains(&t), "contact legend's {t:?} in (e) at {w}×{h}");
+            }
+            assert!(texts.iter().any(|t| t.starts_with("(e)")));
+        }
+        // At a roomy size, the titles say which method's strip it is.
+        let l = layout(2400.0, 1300.0);
+        let outer = l.panel(Panel::Stance).outer;
+        let contact_texts = draw_static(&contact, &l);
+        assert!(texts_in(&contact_texts, outer).contains(&"(e) stance: which feet are on the floor"));
+        let paper_texts = draw_static(&paper, &l);
+        assert!(texts_in(&paper_texts, outer).contains(&"(e) stance: which foot is pinned, and why"));
+    }
+
+    #[test]
+    fn the_cursor_reads_out_contact_stances() {
+        let data = synthetic_contact(1000);
+        let l = layout(2400.0, 1300.0);
+        let outer = l.panel(Panel::Stance).outer;
+        for (frame, words) in [
+            (0, "left foot on the floor"),
+            (40, "both feet on the floor"),
+            (80, "right foot on the floor"),
+            (150, "flight"),
+        ] {
+            let cursor = draw_cursor(&data, frame, &l);
+            let texts = texts_in(&cursor, outer);
+            assert!(texts.iter().any(|t| t.contains(words)), "frame {frame}: {texts:?}");
+        }
+        for k in STANCE_KINDS {
+            let (long, short) = stance_words(k);
+            assert!(!long.is_empty() && !short.is_empty() && short.len() <= long.len(), "{k:?}");
+        }
+        // Clicking the contact strip seeks as the paper one does.
+        let cursor = draw_cursor(&data, 500, &l);
+        let plot = l.plot(Panel::Stance);
+        let x = cursor_x(&cursor, plot).expect("a cursor line");
+        assert!(frame_at(&data, &l, x, plot.center().1).is_some_and(|f| f.abs_diff(500) <= 1));
     }
 }

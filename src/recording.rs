@@ -6,6 +6,7 @@
 use glam::DVec3;
 
 use crate::bvh::{Bvh, ReadOptions};
+use crate::contact::{ContactParams, ContactResult, contact_translation};
 use crate::error::Error;
 use crate::feet::{Feet, Foot, hips_joint, resolve_feet};
 use crate::kinematics::forward_kinematics;
@@ -69,6 +70,47 @@ pub struct FeetChoice {
     pub right: Option<String>,
 }
 
+/// A translation method and its parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Method {
+    /// Hachaj & Ogiela's method, as their R code computes it.
+    Paper(PaperParams),
+    /// embusen's contact method (see [`crate::contact`]).
+    Contact(ContactParams),
+}
+
+impl Default for Method {
+    fn default() -> Self {
+        Method::Contact(ContactParams::default())
+    }
+}
+
+impl Method {
+    /// `paper` or `contact`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::Paper(_) => "paper",
+            Method::Contact(_) => "contact",
+        }
+    }
+}
+
+/// What a method decided, frame by frame, for plots and summaries.
+#[derive(Clone, Debug)]
+pub enum Decisions {
+    Paper(PaperResult),
+    Contact(ContactResult),
+}
+
+impl Decisions {
+    pub fn warnings(&self) -> &[String] {
+        match self {
+            Decisions::Paper(p) => &p.warnings,
+            Decisions::Contact(c) => &c.warnings,
+        }
+    }
+}
+
 /// The outcome of a translation method on a recording.
 #[derive(Clone, Debug)]
 pub struct Translated {
@@ -82,7 +124,25 @@ pub struct Translated {
     pub hips: usize,
     pub accel_source: AccelSource,
     /// What the method decided, frame by frame, for plots.
-    pub paper: PaperResult,
+    pub decisions: Decisions,
+}
+
+impl Translated {
+    /// The paper method's decisions, when it was the method.
+    pub fn paper(&self) -> Option<&PaperResult> {
+        match &self.decisions {
+            Decisions::Paper(p) => Some(p),
+            Decisions::Contact(_) => None,
+        }
+    }
+
+    /// The contact method's decisions, when it was the method.
+    pub fn contact(&self) -> Option<&ContactResult> {
+        match &self.decisions {
+            Decisions::Contact(c) => Some(c),
+            Decisions::Paper(_) => None,
+        }
+    }
 }
 
 /// True when the bytes look like a BVH file rather than a CSV table.
@@ -226,8 +286,39 @@ impl Recording {
             feet,
             hips: self.hips(feet),
             accel_source,
-            paper,
+            decisions: Decisions::Paper(paper),
         })
+    }
+
+    /// Runs the contact method. It needs no accelerations; the suit's foot
+    /// accelerometers, when attached, help it choose between two low feet.
+    pub fn translate_contact(&self, feet: &FeetChoice, params: &ContactParams) -> Result<Translated, Error> {
+        let feet = self.feet(feet)?;
+        let hips = self.hips(feet);
+        let (accel, accel_source) = match self.foot_accel_g(feet) {
+            (a, source @ AccelSource::Accelerometer { .. }) => (Some(a), source),
+            (_, source) => (None, source),
+        };
+        let accel_refs = accel.as_ref().map(|[l, r]| [l.as_slice(), r.as_slice()]);
+        let contact =
+            contact_translation(&self.poses, &self.parents, feet, hips, accel_refs, self.fps, params)
+                .map_err(|message| Error::whole(&self.name, message))?;
+        Ok(Translated {
+            poses: self.poses.shifted(&contact.shift_cm),
+            shift_cm: contact.shift_cm.clone(),
+            feet,
+            hips,
+            accel_source,
+            decisions: Decisions::Contact(contact),
+        })
+    }
+
+    /// Runs `method`.
+    pub fn translate(&self, feet: &FeetChoice, method: &Method) -> Result<Translated, Error> {
+        match method {
+            Method::Paper(params) => self.translate_paper(feet, params),
+            Method::Contact(params) => self.translate_contact(feet, params),
+        }
     }
 
     /// The recording with every frame moved by `shift_cm`, in its own format

@@ -2,17 +2,28 @@
 //! plus everything derived from them for display and export. Browser-free, so
 //! the wasm player stays a thin shell over it and tests can drive it natively.
 
+use crate::contact::{ContactParams, Support};
 use crate::error::Error;
 use crate::feet::Foot;
 use crate::paper::{PaperParams, Smoothing};
 use crate::plot::{PlotData, Stance, StanceReason};
-use crate::recording::{FeetChoice, Recording, Translated};
+use crate::recording::{Decisions, FeetChoice, Method, Recording, Translated};
 
-/// The user's method settings.
+/// The user's method settings. Both methods keep their parameters, so
+/// switching back and forth loses nothing.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Settings {
+    pub use_paper: bool,
     pub paper: PaperParams,
+    pub contact: ContactParams,
     pub feet: FeetChoice,
+}
+
+impl Settings {
+    /// The method in use, with its parameters (contact unless `use_paper`).
+    pub fn method(&self) -> Method {
+        if self.use_paper { Method::Paper(self.paper) } else { Method::Contact(self.contact.clone()) }
+    }
 }
 
 /// An open recording with its translation computed.
@@ -81,34 +92,53 @@ fn export_name(name: &str, suffix: &str) -> String {
 }
 
 fn translate(recording: &Recording, settings: &Settings) -> Result<Translated, Error> {
-    recording.translate_paper(&settings.feet, &settings.paper)
+    recording.translate(&settings.feet, &settings.method())
 }
 
-/// What the plots show for the paper method.
+/// What the plots show: (a) the signal that chose the foot and (e) the
+/// decisions come from the method; (b)–(d) are the same for both.
 pub fn plot_data(recording: &Recording, t: &Translated, settings: &Settings) -> PlotData {
     let heights = |poses: &crate::skeleton::Poses, foot: Foot| -> Vec<f64> {
         poses.trajectory(t.feet.joint(foot)).iter().map(|p| p.y).collect()
     };
-    let stance = t
-        .paper
-        .pass1_pinned
-        .iter()
-        .zip(&t.paper.pass2_pinned)
-        .map(|(p1, p2)| match (p1, p2) {
-            (Some(a), Some(b)) if a == b => Stance::Pinned(*a, StanceReason::Both),
-            // Pass 2 runs after pass 1 and has the last word on the frame.
-            (_, Some(b)) => Stance::Pinned(*b, StanceReason::Height),
-            (Some(a), None) => Stance::Pinned(*a, StanceReason::Acceleration),
-            (None, None) => Stance::Free,
-        })
-        .collect();
+    let (foot_signal, foot_signal_label, stance) = match &t.decisions {
+        Decisions::Paper(paper) => (
+            paper.accel_smoothed_g.clone(),
+            match settings.paper.smoothing {
+                Smoothing::Faithful => "smoothed acceleration (g), R smoother".to_string(),
+                Smoothing::Clean => "smoothed acceleration (g)".to_string(),
+            },
+            paper
+                .pass1_pinned
+                .iter()
+                .zip(&paper.pass2_pinned)
+                .map(|(p1, p2)| match (p1, p2) {
+                    (Some(a), Some(b)) if a == b => Stance::Pinned(*a, StanceReason::Both),
+                    // Pass 2 runs after pass 1 and has the last word on the frame.
+                    (_, Some(b)) => Stance::Pinned(*b, StanceReason::Height),
+                    (Some(a), None) => Stance::Pinned(*a, StanceReason::Acceleration),
+                    (None, None) => Stance::Free,
+                })
+                .collect(),
+        ),
+        Decisions::Contact(contact) => (
+            contact.clearance_cm.clone(),
+            "foot clearance above the floor (cm)".to_string(),
+            contact
+                .support
+                .iter()
+                .map(|support| match support {
+                    Support::Single(foot) => Stance::Pinned(*foot, StanceReason::Contact),
+                    Support::Double => Stance::Double,
+                    Support::Flight => Stance::Flight,
+                })
+                .collect(),
+        ),
+    };
     PlotData {
         fps: recording.fps,
-        foot_signal: t.paper.accel_smoothed_g.clone(),
-        foot_signal_label: match settings.paper.smoothing {
-            Smoothing::Faithful => "smoothed acceleration (g), R smoother".to_string(),
-            Smoothing::Clean => "smoothed acceleration (g)".to_string(),
-        },
+        foot_signal,
+        foot_signal_label,
         heights_before_cm: [heights(&recording.poses, Foot::Left), heights(&recording.poses, Foot::Right)],
         heights_after_cm: [heights(&t.poses, Foot::Left), heights(&t.poses, Foot::Right)],
         hips_before_cm: recording.poses.trajectory(t.hips),

@@ -75,7 +75,7 @@ fn without_accelerometer_the_kinematics_drive_the_method() {
     assert!(p90 > 2.0, "90th percentile {p90}");
     assert_eq!(right.len(), recording.frame_count());
     let translated = recording.translate_paper(&FeetChoice::default(), &PaperParams::default()).unwrap();
-    assert!(translated.paper.pass1_pinned.iter().any(|p| p.is_some()));
+    assert!(translated.paper().expect("paper").pass1_pinned.iter().any(|p| p.is_some()));
 }
 
 #[test]

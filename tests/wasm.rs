@@ -54,21 +54,25 @@ fn bad_input_keeps_the_open_recording() {
     assert_eq!(player.frame_count(), frames);
     assert_eq!(player.frame(), 42);
     assert_eq!(player.name(), embusen::demo::DEMO_NAME);
-    assert!(player.set_settings("clean", 1.0, 5.0, "NoSuchJoint", "").is_err());
+    assert!(player.set_settings("paper", "clean", 1.0, 5.0, "NoSuchJoint", "").is_err());
     assert_eq!(player.feet(), ["LeftFoot", "RightFoot"]);
 }
 
 #[wasm_bindgen_test]
 fn settings_recompute_and_exports_match_the_core() {
     let mut player = player();
+    assert_eq!(player.method(), "contact", "contact is the default");
+    let contact = player.export_hips_csv();
+    player.set_settings("paper", "faithful", 1.0, 5.0, "", "").unwrap();
     let faithful = player.export_hips_csv();
-    player.set_settings("clean", 0.5, 3.0, "", "").unwrap();
+    assert_ne!(contact[1], faithful[1]);
+    player.set_settings("paper", "clean", 0.5, 3.0, "", "").unwrap();
     let clean = player.export_hips_csv();
     assert_eq!(clean[0], "recording.hips.csv");
     assert_ne!(faithful[1], clean[1]);
     // The exported BVH is what the core writes for the same settings.
     let recording = embusen::demo::demo().recording();
-    let mut settings = embusen::session::Settings::default();
+    let mut settings = embusen::session::Settings { use_paper: true, ..Default::default() };
     settings.paper.smoothing = embusen::paper::Smoothing::Clean;
     settings.paper.window_s = 0.5;
     settings.paper.dy_eps_cm = 3.0;

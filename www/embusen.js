@@ -18,9 +18,10 @@ function loadWasm() {
 const FULL_CONTROLS = `
   <label class="file">Open… <input type="file" multiple accept=".bvh,.csv,.txt"></label>
   <span class="sep"></span>
-  <label>smoothing <select data-setting="smoothing"><option value="faithful">faithful (R)</option><option value="clean">clean</option></select></label>
-  <label>window <input data-setting="window" type="number" min="0.05" max="10" step="0.05" value="1"> s</label>
-  <label>dyEps <input data-setting="dyeps" type="number" min="0" max="100" step="0.5" value="5"> cm</label>
+  <label>method <select data-setting="method"><option value="contact">contact</option><option value="paper">paper (Hachaj &amp; Ogiela)</option></select></label>
+  <label class="paper-only">smoothing <select data-setting="smoothing"><option value="faithful">faithful (R)</option><option value="clean">clean</option></select></label>
+  <label class="paper-only">window <input data-setting="window" type="number" min="0.05" max="10" step="0.05" value="1"> s</label>
+  <label class="paper-only">dyEps <input data-setting="dyeps" type="number" min="0" max="100" step="0.5" value="5"> cm</label>
   <label>left foot <select data-setting="left"></select></label>
   <label>right foot <select data-setting="right"></select></label>
   <span class="sep"></span>
@@ -91,6 +92,7 @@ export async function mount(element, options = {}) {
         ["rate", `${+fps.toFixed(2)} Hz`],
         ["duration", `${(frames / fps).toFixed(2)} s`],
         ["feet", player.feet().join(" / ")],
+        ["method", player.method()],
         ["accelerations", player.accel_source()],
       ];
       info.replaceChildren(
@@ -188,6 +190,7 @@ export async function mount(element, options = {}) {
     const applySettings = () => {
       try {
         player.set_settings(
+          $("[data-setting=method]").value,
           $("[data-setting=smoothing]").value,
           +$("[data-setting=window]").value,
           +$("[data-setting=dyeps]").value,
@@ -199,7 +202,10 @@ export async function mount(element, options = {}) {
       } catch (e) {
         showError(String(e.message ?? e));
       }
+      // The paper method's own settings only show when it is chosen.
+      element.dataset.method = $("[data-setting=method]").value;
     };
+    element.dataset.method = "contact";
     element.querySelectorAll("[data-setting]").forEach((input) => input.addEventListener("change", applySettings));
     const download = ([name, text]) => {
       const a = document.createElement("a");

@@ -156,9 +156,12 @@ impl Player {
     }
 
     /// Changes the method settings and recomputes; on error nothing changes.
-    /// `smoothing` is "faithful" or "clean"; empty foot names mean "detect".
+    /// `method` is "contact" or "paper"; `smoothing` ("faithful" or "clean"),
+    /// `window_s` and `dy_eps_cm` are the paper method's; empty foot names
+    /// mean "detect".
     pub fn set_settings(
         &mut self,
+        method: &str,
         smoothing: &str,
         window_s: f64,
         dy_eps_cm: f64,
@@ -167,6 +170,11 @@ impl Player {
     ) -> Result<(), JsError> {
         let Some(session) = &mut self.session else { return Err(js_error("no recording is open")) };
         let mut settings = session.settings.clone();
+        settings.use_paper = match method {
+            "contact" => false,
+            "paper" => true,
+            other => return Err(js_error(format!("unknown method `{other}`"))),
+        };
         settings.paper.smoothing = match smoothing {
             "faithful" => Smoothing::Faithful,
             "clean" => Smoothing::Clean,
@@ -366,6 +374,11 @@ impl Player {
         vec![names[s.translated.feet.left].clone(), names[s.translated.feet.right].clone()]
     }
 
+    /// The method in use: "contact" or "paper".
+    pub fn method(&self) -> String {
+        self.session.as_ref().map_or(String::new(), |s| s.settings.method().name().to_string())
+    }
+
     /// Where the foot accelerations came from.
     pub fn accel_source(&self) -> String {
         self.session.as_ref().map_or(String::new(), |s| s.translated.accel_source.to_string())
@@ -374,7 +387,7 @@ impl Player {
     /// The reader's and the method's warnings.
     pub fn warnings(&self) -> Vec<String> {
         let Some(s) = &self.session else { return Vec::new() };
-        s.recording.warnings.iter().chain(&s.translated.paper.warnings).cloned().collect()
+        s.recording.warnings.iter().chain(s.translated.decisions.warnings()).cloned().collect()
     }
 
     /// The plot panels in CSS pixels of the plot canvas, `[x, y, width,

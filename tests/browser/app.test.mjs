@@ -119,6 +119,7 @@ test("heian_nidan.bvh opens through the file input and exports what the CLI writ
   await page.evaluate(() => document.querySelector("#app").embusen.player.draw());
   assert.ok((await countDrawnPixels(page, "#app canvas.view")) > 500);
   // Export with non-default settings, and compare with the CLI's output for the same.
+  await page.selectOption("#app [data-setting=method]", "paper");
   await page.selectOption("#app [data-setting=smoothing]", "clean");
   await page.fill("#app [data-setting=dyeps]", "4");
   await page.dispatchEvent("#app [data-setting=dyeps]", "change");
@@ -127,7 +128,7 @@ test("heian_nidan.bvh opens through the file input and exports what the CLI writ
   const exported = readFileSync(await download.path(), "utf8");
   const dir = mkdtempSync(join(tmpdir(), "embusen-"));
   const cliOut = join(dir, "cli.bvh");
-  execFileSync(join(ROOT, "target/release/embusen"), ["translate", file, "--smoothing", "clean", "--dy-eps", "4", "-o", cliOut]);
+  execFileSync(join(ROOT, "target/release/embusen"), ["translate", file, "--method", "paper", "--smoothing", "clean", "--dy-eps", "4", "-o", cliOut]);
   if (exported !== readFileSync(cliOut, "utf8")) writeFileSync(join(SCREENSHOTS, "exported.bvh"), exported);
   assert.ok(exported === readFileSync(cliOut, "utf8"), `the exported BVH equals \`embusen translate\`'s (diff ${cliOut} ${SCREENSHOTS}/exported.bvh)`);
   const [hips] = await Promise.all([page.waitForEvent("download"), page.click("#app [data-action=export-hips]")]);

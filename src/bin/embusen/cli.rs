@@ -1,13 +1,14 @@
-//! The `embusen` command line: `info`, `translate`, and (with no arguments) a
-//! run on the built-in demo recording.
+//! The `embusen` command line: `info`, `translate`, `eval`, and (with no
+//! arguments) a run on the built-in demo recording.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
+use embusen::contact::{ContactParams, Support};
 use embusen::metrics::{floor_path_cm, mean_floor_error_cm};
 use embusen::paper::{PaperParams, Smoothing};
-use embusen::recording::{FeetChoice, Recording, Translated};
+use embusen::recording::{Decisions, FeetChoice, Method, Recording, Translated};
 use embusen::table::Accelerations;
 use embusen::{Error, demo};
 
@@ -34,10 +35,24 @@ enum Command {
         #[arg(long)]
         fps: Option<f64>,
     },
+    /// Measure both methods: ground-truth BVHs (translation removed and
+    /// re-estimated, compared with the truth) and katas (how far the hips end
+    /// from where they started). Directories are searched for `.bvh` files.
+    Eval {
+        /// Ground-truth BVHs, or directories of them.
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        /// Recordings that end where they start (katas): BVH (with
+        /// `<name>.accel.csv` beside it, if any) or tables, or directories.
+        #[arg(long, num_args = 1..)]
+        closure: Vec<PathBuf>,
+    },
 }
 
 #[derive(Clone, Copy, ValueEnum)]
-enum Method {
+enum MethodArg {
+    /// Foot contacts frame by frame, with flight (embusen's own).
+    Contact,
     /// Hachaj & Ogiela's heuristic, as the authors' R code computes it.
     Paper,
 }
@@ -63,14 +78,15 @@ struct TranslateArgs {
     /// `<name>.embusen.<ext>` next to each input.
     #[arg(short, long)]
     output: Option<PathBuf>,
-    #[arg(long, value_enum, default_value = "paper")]
-    method: Method,
+    #[arg(long, value_enum, default_value = "contact")]
+    method: MethodArg,
+    /// Paper method: smoothing mode.
     #[arg(long, value_enum, default_value = "faithful")]
     smoothing: SmoothingArg,
-    /// Smoothing window in seconds.
+    /// Paper method: smoothing window in seconds.
     #[arg(long, default_value_t = PaperParams::default().window_s)]
     window_s: f64,
-    /// Minimum smoothed foot height difference (cm) for pass 2 to pin the lower foot.
+    /// Paper method: minimum smoothed foot height difference (cm) for pass 2 to pin the lower foot.
     #[arg(long, default_value_t = PaperParams::default().dy_eps_cm)]
     dy_eps: f64,
     /// Frame rate for files that do not state one.
@@ -90,7 +106,152 @@ pub fn main() -> ExitCode {
         None => run_demo(),
         Some(Command::Info { inputs, fps }) => run_info(&inputs, fps),
         Some(Command::Translate(args)) => run_translate(&args),
+        Some(Command::Eval { inputs, closure }) => run_eval(&inputs, &closure),
     }
+}
+
+/// Files named on the command line, with directories replaced by their
+/// `.bvh` files (sorted).
+fn expand(inputs: &[PathBuf]) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    for input in inputs {
+        match std::fs::read_dir(input) {
+            Ok(entries) => {
+                let mut found: Vec<PathBuf> = entries
+                    .filter_map(|e| e.ok().map(|e| e.path()))
+                    .filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("bvh")))
+                    .collect();
+                found.sort();
+                files.extend(found);
+            }
+            Err(_) => files.push(input.clone()),
+        }
+    }
+    files
+}
+
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    match values.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => values[n / 2],
+        n => 0.5 * (values[n / 2 - 1] + values[n / 2]),
+    }
+}
+
+fn run_eval(inputs: &[PathBuf], closure: &[PathBuf]) -> ExitCode {
+    use embusen::eval::{Accuracy, evaluate_groundtruth, kata_closure_cm, motion_type};
+    let methods = [Method::Paper(PaperParams::default()), Method::default()];
+    let mut failed = 0;
+    // (motion type, [paper, contact]) per file.
+    let mut rows: Vec<(String, [Accuracy; 2])> = Vec::new();
+    println!("ground truth: translation frozen root→hips, re-estimated, compared with the truth");
+    println!(
+        "{:<36} {:>8} | {:>17} | {:>17} | {:>13} | {:>13} | {:>13}",
+        "file", "path m", "mean err % p/c", "final err % p/c", "ratio p/c", "skate cm/s", "vert cm p/c"
+    );
+    for path in expand(inputs) {
+        let name = path.file_name().map_or(path.display().to_string(), |n| n.to_string_lossy().into_owned());
+        let result = load(&path, None).and_then(|recording| match &recording.source {
+            embusen::recording::Source::Bvh(bvh) => {
+                let paper = evaluate_groundtruth(bvh, &name, &methods[0])?;
+                let contact = evaluate_groundtruth(bvh, &name, &methods[1])?;
+                Ok([paper, contact])
+            }
+            embusen::recording::Source::Table(_) => {
+                Err(Error::whole(&name, "ground truth must be a BVH (its root channels are the truth)"))
+            }
+        });
+        match result {
+            Ok([p, c]) => {
+                println!(
+                    "{:<36} {:>8.2} | {:>8.2} {:>8.2} | {:>8.2} {:>8.2} | {:>6.3} {:>6.3} | {:>6.2} {:>6.2} | {:>6.1} {:>6.1}",
+                    name,
+                    c.true_path_cm / 100.0,
+                    p.mean_error_pct,
+                    c.mean_error_pct,
+                    p.final_error_pct,
+                    c.final_error_pct,
+                    p.path_ratio,
+                    c.path_ratio,
+                    p.skating_cm_per_s,
+                    c.skating_cm_per_s,
+                    p.vertical_error_cm,
+                    c.vertical_error_cm
+                );
+                rows.push((motion_type(&name), [p, c]));
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                failed += 1;
+            }
+        }
+    }
+    // Medians per motion type and over all files. Percentages of a path make
+    // no sense for motions that stay in place (bow), so those are left out
+    // of the percentage medians but kept in skating and vertical error.
+    let mut types: Vec<String> = rows.iter().map(|(t, _)| t.clone()).collect();
+    types.sort();
+    types.dedup();
+    let moving = |a: &Accuracy| a.true_path_cm >= 50.0;
+    let summary = |label: &str, selected: Vec<&[Accuracy; 2]>| {
+        let col = |m: usize, f: fn(&Accuracy) -> f64, only_moving: bool| {
+            let mut v: Vec<f64> =
+                selected.iter().map(|r| &r[m]).filter(|a| !only_moving || moving(a)).map(f).collect();
+            median(&mut v)
+        };
+        println!(
+            "{:<36} {:>8} | {:>8.2} {:>8.2} | {:>8.2} {:>8.2} | {:>6.3} {:>6.3} | {:>6.2} {:>6.2} | {:>6.1} {:>6.1}",
+            label,
+            selected.len(),
+            col(0, |a| a.mean_error_pct, true),
+            col(1, |a| a.mean_error_pct, true),
+            col(0, |a| a.final_error_pct, true),
+            col(1, |a| a.final_error_pct, true),
+            col(0, |a| a.path_ratio, true),
+            col(1, |a| a.path_ratio, true),
+            col(0, |a| a.skating_cm_per_s, false),
+            col(1, |a| a.skating_cm_per_s, false),
+            col(0, |a| a.vertical_error_cm, false),
+            col(1, |a| a.vertical_error_cm, false)
+        );
+    };
+    if !rows.is_empty() {
+        println!(
+            "medians (percentages and ratios over files whose hips travel ≥ 0.5 m; the count is all files):"
+        );
+        for t in &types {
+            summary(&format!("  {t}"), rows.iter().filter(|(k, _)| k == t).map(|(_, r)| r).collect());
+        }
+        summary("  all", rows.iter().map(|(_, r)| r).collect());
+        let better =
+            rows.iter().filter(|(_, [p, c])| !moving(c) || c.mean_error_pct < p.mean_error_pct).count();
+        println!(
+            "contact beats paper on mean error in {better} of {} files (in-place files count as ties)",
+            rows.len()
+        );
+    }
+    let closure_files = expand(closure);
+    if !closure_files.is_empty() {
+        println!("katas: hips floor distance between the first and last frame, vendor translation removed");
+        println!("{:<36} {:>10} {:>10}", "file", "paper cm", "contact cm");
+    }
+    for path in closure_files {
+        let result = load(&path, None).and_then(|mut recording| {
+            if let Some(accel) = accel_path_for(&path, None) {
+                recording.attach_accel(load_accel(&accel)?)?;
+            }
+            Ok([kata_closure_cm(&recording, &methods[0])?, kata_closure_cm(&recording, &methods[1])?])
+        });
+        match result {
+            Ok([p, c]) => println!("{:<36} {:>10.1} {:>10.1}", path.display(), p, c),
+            Err(e) => {
+                eprintln!("error: {e}");
+                failed += 1;
+            }
+        }
+    }
+    if failed > 0 { ExitCode::FAILURE } else { ExitCode::SUCCESS }
 }
 
 /// Reads a file into a [`Recording`], naming the file in any error.
@@ -173,14 +334,17 @@ fn run_translate(args: &TranslateArgs) -> ExitCode {
         eprintln!("error: {}: cannot create the output directory: {e}", dir.display());
         return ExitCode::FAILURE;
     }
-    let params = PaperParams {
-        window_s: args.window_s,
-        dy_eps_cm: args.dy_eps,
-        smoothing: match args.smoothing {
-            SmoothingArg::Faithful => Smoothing::Faithful,
-            SmoothingArg::Clean => Smoothing::Clean,
-        },
-        ..PaperParams::default()
+    let method = match args.method {
+        MethodArg::Contact => Method::Contact(ContactParams::default()),
+        MethodArg::Paper => Method::Paper(PaperParams {
+            window_s: args.window_s,
+            dy_eps_cm: args.dy_eps,
+            smoothing: match args.smoothing {
+                SmoothingArg::Faithful => Smoothing::Faithful,
+                SmoothingArg::Clean => Smoothing::Clean,
+            },
+            ..PaperParams::default()
+        }),
     };
     let feet = FeetChoice { left: args.left_foot.clone(), right: args.right_foot.clone() };
     let bar = indicatif::ProgressBar::new(args.inputs.len() as u64);
@@ -191,7 +355,7 @@ fn run_translate(args: &TranslateArgs) -> ExitCode {
     let mut failed = 0;
     for input in &args.inputs {
         bar.set_message(input.display().to_string());
-        match translate_one(input, args, &params, &feet, many) {
+        match translate_one(input, args, &method, &feet, many) {
             // `suspend` keeps the bar from overdrawing the line; a hidden bar
             // (output not a terminal) would swallow `bar.println`.
             Ok(summary) => bar.suspend(|| println!("{summary}")),
@@ -214,7 +378,7 @@ fn run_translate(args: &TranslateArgs) -> ExitCode {
 fn translate_one(
     input: &Path,
     args: &TranslateArgs,
-    params: &PaperParams,
+    method: &Method,
     feet: &FeetChoice,
     many: bool,
 ) -> Result<String, Error> {
@@ -222,9 +386,7 @@ fn translate_one(
     if let Some(accel_path) = accel_path_for(input, args.accel.as_ref()) {
         recording.attach_accel(load_accel(&accel_path)?)?;
     }
-    let translated = match args.method {
-        Method::Paper => recording.translate_paper(feet, params)?,
-    };
+    let translated = recording.translate(feet, method)?;
     let out_path = output_path_for(input, args.output.as_ref(), many, recording.extension());
     std::fs::write(&out_path, recording.write_shifted(&translated.shift_cm))
         .map_err(|e| Error::whole(&out_path.display().to_string(), format!("cannot write: {e}")))?;
@@ -234,21 +396,36 @@ fn translate_one(
 /// One line on what the method did.
 fn describe(recording: &Recording, t: &Translated) -> String {
     let frames = recording.frame_count().max(1);
-    let pinned = |pass: &[Option<embusen::feet::Foot>]| pass.iter().filter(|p| p.is_some()).count();
-    let hips_before = floor_path_cm(&recording.poses.trajectory(t.hips));
-    let hips_after = floor_path_cm(&t.poses.trajectory(t.hips));
+    let percent = |count: usize| 100.0 * count as f64 / frames as f64;
+    let decided = match &t.decisions {
+        Decisions::Paper(p) => {
+            let pinned = |pass: &[Option<embusen::feet::Foot>]| pass.iter().filter(|p| p.is_some()).count();
+            format!(
+                "method paper: pinned in {:.0}% (pass 1) and {:.0}% (pass 2) of frames",
+                percent(pinned(&p.pass1_pinned)),
+                percent(pinned(&p.pass2_pinned))
+            )
+        }
+        Decisions::Contact(c) => {
+            let count = |want: fn(&Support) -> bool| c.support.iter().filter(|s| want(s)).count();
+            format!(
+                "method contact: one foot down in {:.0}%, both in {:.0}%, flight in {:.0}% of frames",
+                percent(count(|s| matches!(s, Support::Single(_)))),
+                percent(count(|s| matches!(s, Support::Double))),
+                percent(count(|s| matches!(s, Support::Flight)))
+            )
+        }
+    };
     format!(
-        "{} frames at {} Hz, feet {}/{}, accel from {}; pinned in {:.0}% (pass 1) and {:.0}% (pass 2) of frames; hips floor path {:.2} m → {:.2} m{}",
+        "{} frames at {} Hz, feet {}/{}, accel from {}; {decided}; hips floor path {:.2} m → {:.2} m{}",
         recording.frame_count(),
         hz(recording.fps),
         recording.joint_names[t.feet.left],
         recording.joint_names[t.feet.right],
         t.accel_source,
-        100.0 * pinned(&t.paper.pass1_pinned) as f64 / frames as f64,
-        100.0 * pinned(&t.paper.pass2_pinned) as f64 / frames as f64,
-        hips_before / 100.0,
-        hips_after / 100.0,
-        t.paper.warnings.iter().map(|w| format!("; warning: {w}")).collect::<String>(),
+        floor_path_cm(&recording.poses.trajectory(t.hips)) / 100.0,
+        floor_path_cm(&t.poses.trajectory(t.hips)) / 100.0,
+        t.decisions.warnings().iter().map(|w| format!("; warning: {w}")).collect::<String>(),
     )
 }
 
@@ -269,22 +446,24 @@ fn run_demo() -> ExitCode {
         hz(recording.fps),
         recording.duration_s()
     );
-    let translated = match recording.translate_paper(&FeetChoice::default(), &PaperParams::default()) {
-        Ok(t) => t,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
-    println!("  method paper: {}", describe(&recording, &translated));
-    let estimated = translated.poses.trajectory(translated.hips);
     let truth = &demo.true_root_cm;
-    let mean_error_cm = mean_floor_error_cm(&estimated, truth);
-    println!(
-        "  true hips floor path {:.2} m; mean horizontal error of the estimate {:.1} cm",
-        floor_path_cm(truth) / 100.0,
-        mean_error_cm
-    );
+    println!("  true hips floor path {:.2} m", floor_path_cm(truth) / 100.0);
+    for method in [Method::default(), Method::Paper(PaperParams::default())] {
+        let translated = match recording.translate(&FeetChoice::default(), &method) {
+            Ok(t) => t,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::FAILURE;
+            }
+        };
+        println!("  {}", describe(&recording, &translated));
+        let estimated = translated.poses.trajectory(translated.hips);
+        println!(
+            "    mean horizontal error of the {} estimate: {:.1} cm",
+            method.name(),
+            mean_floor_error_cm(&estimated, truth)
+        );
+    }
     println!("  try: embusen translate FILE.bvh   (see embusen --help)");
     ExitCode::SUCCESS
 }

@@ -1,0 +1,189 @@
+//! Accuracy of the translation methods on recordings whose true root motion
+//! is known (optical mocap), and on katas, which end where they start.
+//!
+//! A ground-truth file is evaluated by removing its translation — every
+//! position channel from the root down to the hips is frozen at its
+//! first-frame value — estimating it again, and comparing the hips with the
+//! original recording's.
+
+use glam::DVec3;
+
+use crate::bvh::Bvh;
+use crate::error::Error;
+use crate::feet::{Feet, Foot, foot_points};
+use crate::metrics::{floor_closure_cm, floor_path_cm};
+use crate::recording::{FeetChoice, Method, Recording, Translated};
+use crate::skeleton::Poses;
+
+/// A foot counts as on the floor in the truth when its lowest point is within
+/// this height of that point's lowest level in the recording, and moves
+/// slower than `TRUTH_STILL_CM_PER_S`: both, so neither a foot skimming the
+/// floor in swing nor a planted foot on a mis-tracked frame is counted wrong.
+const TRUTH_LOW_CM: f64 = 3.0;
+const TRUTH_STILL_CM_PER_S: f64 = 20.0;
+
+/// How one method did on one ground-truth recording.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Accuracy {
+    pub true_path_cm: f64,
+    /// Mean horizontal hips error (first frame aligned), % of the true path.
+    pub mean_error_pct: f64,
+    /// The last frame's horizontal hips error, % of the true path.
+    pub final_error_pct: f64,
+    /// Estimated / true horizontal hips path length.
+    pub path_ratio: f64,
+    /// Mean horizontal speed of a foot's lowest point, in the estimate, over
+    /// the frames where that foot is on the floor in the truth.
+    pub skating_cm_per_s: f64,
+    /// Mean |estimated − true| hips height.
+    pub vertical_error_cm: f64,
+}
+
+/// The recording with its translation removed: every position channel from
+/// the root down to `hips` holds its first-frame value in every frame.
+pub fn freeze_translation(bvh: &Bvh, hips: usize) -> Bvh {
+    let mut frozen = bvh.clone();
+    let mut chain = vec![hips];
+    while let Some(parent) = bvh.skeleton.parents[*chain.last().unwrap_or(&hips)] {
+        chain.push(parent);
+    }
+    let frames = frozen.motion.frame_count();
+    for joint in chain {
+        let first = frozen.skeleton.first_channel[joint];
+        for (i, channel) in frozen.skeleton.channels[joint].clone().iter().enumerate() {
+            if channel.is_position() && frames > 0 {
+                let value = frozen.motion.frame(0)[first + i];
+                for f in 1..frames {
+                    frozen.motion.frame_mut(f)[first + i] = value;
+                }
+            }
+        }
+    }
+    frozen
+}
+
+/// The motion type of a file, from its name: `bandai1_walk-right_normal_001`
+/// → `walk-right`; otherwise the name without its extension.
+pub fn motion_type(name: &str) -> String {
+    let stem = name.rsplit('/').next().unwrap_or(name).trim_end_matches(".bvh");
+    let parts: Vec<&str> = stem.split('_').collect();
+    if parts.len() >= 3 { parts[1].to_string() } else { stem.to_string() }
+}
+
+/// Per frame, per foot: is it on the floor in `truth`?
+fn truth_contacts(truth: &Poses, parents: &[Option<usize>], feet: Feet, fps: f64) -> [Vec<bool>; 2] {
+    let n = truth.frame_count();
+    [Foot::Left, Foot::Right].map(|foot| {
+        let points = foot_points(parents, feet.joint(foot));
+        let lowest = |f: usize| points.iter().map(|&j| truth.at(f, j).y).fold(f64::INFINITY, f64::min);
+        let floor = (0..n).map(lowest).fold(f64::INFINITY, f64::min);
+        (0..n)
+            .map(|f| {
+                let (a, b) = (f.saturating_sub(1), (f + 1).min(n - 1));
+                let speed = if b > a {
+                    (truth.at(b, feet.joint(foot)) - truth.at(a, feet.joint(foot))).with_y(0.0).length() * fps
+                        / (b - a) as f64
+                } else {
+                    0.0
+                };
+                lowest(f) - floor <= TRUTH_LOW_CM && speed <= TRUTH_STILL_CM_PER_S
+            })
+            .collect()
+    })
+}
+
+/// Compares `estimated` with `truth` (the same skeleton and frames).
+pub fn accuracy(estimated: &Translated, truth: &Poses, parents: &[Option<usize>], fps: f64) -> Accuracy {
+    let hips = estimated.hips;
+    let est = estimated.poses.trajectory(hips);
+    let tru = truth.trajectory(hips);
+    let n = est.len().min(tru.len());
+    let true_path_cm = floor_path_cm(&tru[..n]);
+    let align = if n > 0 { (tru[0] - est[0]).with_y(0.0) } else { DVec3::ZERO };
+    let error = |f: usize| (est[f] + align - tru[f]).with_y(0.0).length();
+    let mean_error = (0..n).map(error).sum::<f64>() / n.max(1) as f64;
+    let pct = |cm: f64| 100.0 * cm / true_path_cm;
+    let contacts = truth_contacts(truth, parents, estimated.feet, fps);
+    let (mut skate_sum, mut skate_frames) = (0.0, 0usize);
+    for (side, foot) in [Foot::Left, Foot::Right].into_iter().enumerate() {
+        let points = foot_points(parents, estimated.feet.joint(foot));
+        for f in 1..n {
+            if contacts[side][f] && contacts[side][f - 1] {
+                // The point of the foot that is lowest in the truth.
+                let j = points
+                    .iter()
+                    .copied()
+                    .min_by(|&a, &b| truth.at(f, a).y.total_cmp(&truth.at(f, b).y))
+                    .unwrap_or(estimated.feet.joint(foot));
+                skate_sum +=
+                    (estimated.poses.at(f, j) - estimated.poses.at(f - 1, j)).with_y(0.0).length() * fps;
+                skate_frames += 1;
+            }
+        }
+    }
+    Accuracy {
+        true_path_cm,
+        mean_error_pct: pct(mean_error),
+        final_error_pct: if n > 0 { pct(error(n - 1)) } else { 0.0 },
+        path_ratio: floor_path_cm(&est[..n]) / true_path_cm,
+        skating_cm_per_s: skate_sum / skate_frames.max(1) as f64,
+        vertical_error_cm: (0..n).map(|f| (est[f].y - tru[f].y).abs()).sum::<f64>() / n.max(1) as f64,
+    }
+}
+
+/// Evaluates `method` on a ground-truth BVH: freezes its translation,
+/// estimates it, and compares.
+pub fn evaluate_groundtruth(bvh: &Bvh, name: &str, method: &Method) -> Result<Accuracy, Error> {
+    let truth = Recording::from_bvh(bvh.clone(), name);
+    let feet = truth.feet(&FeetChoice::default())?;
+    let frozen = Recording::from_bvh(freeze_translation(bvh, truth.hips(feet)), name);
+    let estimated = frozen.translate(&FeetChoice::default(), method)?;
+    Ok(accuracy(&estimated, &truth.poses, &truth.parents, truth.fps))
+}
+
+/// How far a kata's hips end from where they started (cm), after removing the
+/// vendor's translation and estimating it with `method`.
+pub fn kata_closure_cm(recording: &Recording, method: &Method) -> Result<f64, Error> {
+    let feet = recording.feet(&FeetChoice::default())?;
+    let hips = recording.hips(feet);
+    let stripped = match &recording.source {
+        crate::recording::Source::Bvh(bvh) => {
+            let mut r = Recording::from_bvh(freeze_translation(bvh, hips), &recording.name);
+            r.accel = recording.accel.clone();
+            r
+        }
+        // A table stores global positions: strip the hips' motion from every joint.
+        crate::recording::Source::Table(_) => {
+            let start = recording.poses.at(0, hips);
+            let shift: Vec<DVec3> =
+                (0..recording.frame_count()).map(|f| start - recording.poses.at(f, hips)).collect();
+            let mut r = recording.clone();
+            r.poses = recording.poses.shifted(&shift);
+            r
+        }
+    };
+    let translated = stripped.translate(&FeetChoice::default(), method)?;
+    Ok(floor_closure_cm(&translated.poses.trajectory(hips)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn motion_types_come_from_the_name() {
+        assert_eq!(motion_type("bandai1_walk-right_normal_001.bvh"), "walk-right");
+        assert_eq!(motion_type("dir/bandai1_dash_normal_001.bvh"), "dash");
+        assert_eq!(motion_type("heian_nidan.bvh"), "heian_nidan");
+    }
+
+    #[test]
+    fn the_demo_is_recovered_better_by_contact_than_by_paper() {
+        let demo = crate::demo::demo();
+        let bvh = Bvh { skeleton: demo.skeleton.clone(), motion: demo.motion.clone(), warnings: Vec::new() };
+        let paper = evaluate_groundtruth(&bvh, "demo", &Method::Paper(Default::default())).unwrap();
+        let contact = evaluate_groundtruth(&bvh, "demo", &Method::default()).unwrap();
+        assert!(contact.mean_error_pct < paper.mean_error_pct, "{contact:?} vs {paper:?}");
+        assert!(contact.mean_error_pct < 2.0, "{contact:?}");
+    }
+}
