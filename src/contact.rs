@@ -136,16 +136,16 @@ pub fn contact_translation(
     // Floor offsets: each foot point's height above the lowest point of its
     // foot, in the frames where that foot is the lower one; the median is its
     // height in a foot standing flat.
-    let lowest_of = |f: usize, side: usize| -> f64 {
-        points[side].iter().map(|&j| relative(f, j).y).fold(f64::INFINITY, f64::min)
-    };
+    let lowest: [Vec<f64>; 2] = [0, 1].map(|side| {
+        (0..n).map(|f| points[side].iter().map(|&j| relative(f, j).y).fold(f64::INFINITY, f64::min)).collect()
+    });
     let offsets: [Vec<f64>; 2] = [0, 1].map(|side| {
         points[side]
             .iter()
             .map(|&j| {
                 let heights: Vec<f64> = (0..n)
-                    .filter(|&f| lowest_of(f, side) <= lowest_of(f, 1 - side))
-                    .map(|f| relative(f, j).y - lowest_of(f, side))
+                    .filter(|&f| lowest[side][f] <= lowest[1 - side][f])
+                    .map(|f| relative(f, j).y - lowest[side][f])
                     .collect();
                 median(&heights)
             })

@@ -97,18 +97,7 @@ impl Demo {
     /// input when it is tested against [`Demo::true_root_cm`].
     pub fn without_translation(&self) -> Motion {
         let mut motion = self.motion.clone();
-        if motion.frame_count() == 0 {
-            return motion;
-        }
-        let start = motion.frame(0).to_vec();
-        let first = self.skeleton.first_channel[0];
-        for (i, channel) in self.skeleton.channels[0].iter().enumerate() {
-            if channel.is_position() {
-                for values in motion.values.chunks_mut(motion.channel_count) {
-                    values[first + i] = start[first + i];
-                }
-            }
-        }
+        motion.hold_positions_at_first_frame(&self.skeleton, 0);
         motion
     }
 }

@@ -43,21 +43,10 @@ pub struct Accuracy {
 /// the root down to `hips` holds its first-frame value in every frame.
 pub fn freeze_translation(bvh: &Bvh, hips: usize) -> Bvh {
     let mut frozen = bvh.clone();
-    let mut chain = vec![hips];
-    while let Some(parent) = bvh.skeleton.parents[*chain.last().unwrap_or(&hips)] {
-        chain.push(parent);
-    }
-    let frames = frozen.motion.frame_count();
-    for joint in chain {
-        let first = frozen.skeleton.first_channel[joint];
-        for (i, channel) in frozen.skeleton.channels[joint].clone().iter().enumerate() {
-            if channel.is_position() && frames > 0 {
-                let value = frozen.motion.frame(0)[first + i];
-                for f in 1..frames {
-                    frozen.motion.frame_mut(f)[first + i] = value;
-                }
-            }
-        }
+    let mut joint = Some(hips);
+    while let Some(j) = joint {
+        frozen.motion.hold_positions_at_first_frame(&bvh.skeleton, j);
+        joint = bvh.skeleton.parents[j];
     }
     frozen
 }

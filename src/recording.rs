@@ -244,19 +244,25 @@ impl Recording {
         hips_joint(&self.parents, feet)
     }
 
+    /// The feet's accelerometer magnitudes in g, `[left, right]`, when
+    /// sensors named like the foot joints were recorded.
+    pub fn foot_accelerometers_g(&self, feet: Feet) -> Option<([Vec<f64>; 2], AccelSource)> {
+        let left_name = &self.joint_names[feet.left];
+        let right_name = &self.joint_names[feet.right];
+        let accel = self.accel.as_ref()?;
+        let (l, r) = (accel.sensor(left_name)?, accel.sensor(right_name)?);
+        Some((
+            [magnitudes(l), magnitudes(r)],
+            AccelSource::Accelerometer { left: left_name.clone(), right: right_name.clone() },
+        ))
+    }
+
     /// Acceleration magnitudes of the two feet in g, `[left, right]`: from the
     /// accelerometers named like the foot joints when there are any, else from
     /// the kinematics.
     pub fn foot_accel_g(&self, feet: Feet) -> ([Vec<f64>; 2], AccelSource) {
-        let left_name = &self.joint_names[feet.left];
-        let right_name = &self.joint_names[feet.right];
-        if let Some(accel) = &self.accel
-            && let (Some(l), Some(r)) = (accel.sensor(left_name), accel.sensor(right_name))
-        {
-            return (
-                [magnitudes(l), magnitudes(r)],
-                AccelSource::Accelerometer { left: left_name.clone(), right: right_name.clone() },
-            );
+        if let Some(measured) = self.foot_accelerometers_g(feet) {
+            return measured;
         }
         // The hips' own motion is the vendor's translation guess; remove it so
         // the kinematic acceleration reflects the legs only.
@@ -295,9 +301,10 @@ impl Recording {
     pub fn translate_contact(&self, feet: &FeetChoice, params: &ContactParams) -> Result<Translated, Error> {
         let feet = self.feet(feet)?;
         let hips = self.hips(feet);
-        let (accel, accel_source) = match self.foot_accel_g(feet) {
-            (a, source @ AccelSource::Accelerometer { .. }) => (Some(a), source),
-            (_, source) => (None, source),
+        // Without accelerometers the method needs no accelerations at all.
+        let (accel, accel_source) = match self.foot_accelerometers_g(feet) {
+            Some((a, source)) => (Some(a), source),
+            None => (None, AccelSource::Kinematic),
         };
         let accel_refs = accel.as_ref().map(|[l, r]| [l.as_slice(), r.as_slice()]);
         let contact =

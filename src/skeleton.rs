@@ -143,6 +143,23 @@ impl Motion {
     pub fn fps(&self) -> f64 {
         1.0 / self.frame_time_s
     }
+
+    /// Sets every position channel of `joint` to its frame-0 value in every
+    /// frame: the joint's own translation is removed, its rotations kept.
+    pub fn hold_positions_at_first_frame(&mut self, skeleton: &Skeleton, joint: usize) {
+        if self.frame_count() == 0 {
+            return;
+        }
+        let first = skeleton.first_channel[joint];
+        for (i, channel) in skeleton.channels[joint].iter().enumerate() {
+            if channel.is_position() {
+                let value = self.frame(0)[first + i];
+                for values in self.values.chunks_mut(self.channel_count) {
+                    values[first + i] = value;
+                }
+            }
+        }
+    }
 }
 
 /// Global joint positions for every frame, frame-major like [`Motion`]: the
