@@ -1,72 +1,89 @@
 //! The contact method: the translation from the feet's contacts with the
-//! floor, frame by frame, with flight.
+//! floor, with flight.
 //!
 //! The body's joint positions relative to its hips are what an inertial suit
 //! measures well; where the hips are is what it guesses. This method throws
-//! the guess away and rebuilds it from one physical fact at a time:
+//! the guess away and rebuilds it from physical facts:
 //!
-//! 1. **A foot on the floor does not slide.** Each frame, the foot point
-//!    (ankle, toe, toe tip: the foot joint and everything below it) that is
-//!    lowest is the one touching the floor, so heel strike, flat foot and
-//!    roll-over onto the toes each pin the right point. Heights are compared
-//!    after subtracting each point's own height above the floor in a standing
-//!    foot (its *floor offset*, the median over the recording), because an
-//!    ankle stands ~8 cm higher than a toe tip when both are down.
-//! 2. **The floor pushes but never pulls.** With the lowest foot point on the
-//!    floor, the hips' height follows from the pose. When that height would
-//!    drop faster than a body falls, the feet have left the floor: the hips
-//!    then follow a ballistic arc (gravity only) until a foot reaches the
-//!    floor again. Nothing ever sinks below the floor.
-//! 3. **A body does not change velocity abruptly.** In flight the hips keep
-//!    their take-off horizontal velocity. With both feet low, both are taken
-//!    as planted when they agree; when they disagree, one is sliding (a foot
-//!    landing, or lifting off), and the one that agrees with the body's
-//!    motion so far wins — with an accelerometer, the calmer foot also counts.
+//! 1. **A foot on the floor does not slide.** The foot rolls — lands on the
+//!    heel, stands flat, pushes off over the toes — and the point it rolls
+//!    over stays put. The candidates are the points of the sole
+//!    ([`crate::sole`]): a virtual heel, the sole under the ankle, the toes.
+//! 2. **The centre of mass does not change velocity abruptly.** Of all the
+//!    ways to pin one sole point (or both feet) in each frame, the method
+//!    takes the one sequence along which the centre of mass moves most
+//!    smoothly over the whole recording, solved exactly by dynamic
+//!    programming. Where no foot explains the motion — in the air, or while
+//!    one foot slides in as the other slides out — the centre of mass
+//!    *coasts*: it keeps its horizontal velocity, as in flight it must.
+//! 3. **The floor pushes but never pulls.** The hips' height puts the lowest
+//!    sole point on the floor. Over a coasting stretch the centre of mass
+//!    follows the parabola that gravity gives between take-off and landing;
+//!    where that lifts both feet off the floor it is a flight, and no foot
+//!    ever goes below the floor.
 //!
 //! Everything is in seconds and centimetres, so 30 fps and 100 Hz recordings
-//! behave alike, and the cost is O(frames × foot points).
+//! behave alike, and the cost is O(frames × sole points²).
 
 use glam::DVec3;
 
-use crate::feet::{Feet, Foot, foot_points};
-use crate::signals::STANDARD_GRAVITY_CM_PER_S2;
+use crate::feet::{Feet, Foot};
+use crate::signals::{STANDARD_GRAVITY_CM_PER_S2, smooth_paths};
 use crate::skeleton::Poses;
+use crate::sole::{Sole, SolePart, median, soles};
 
 /// Parameters of the contact method. The defaults are physical quantities,
 /// not fitted to any recording.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct ContactParams {
-    /// A foot comes down when its lowest point is within this height of the
-    /// floor: a sole's thickness plus the centimetre or so that tracking
-    /// noise moves a planted foot.
+    /// A sole point this high above the floor costs as much to pin as a
+    /// velocity change of `slip_cm_per_s`: a sole's thickness plus the
+    /// centimetre or so that tracking noise moves a planted foot.
     pub touch_cm: f64,
-    /// The stance foot stays down until it is this high (hysteresis, so
-    /// noise near `touch_cm` does not flicker the decision).
+    /// A sole point higher than this is never pinned.
     pub lift_cm: f64,
-    /// Two low feet whose implied hips velocities differ by more than this
-    /// are not both planted. Walking speed is ~130 cm/s and a foot in swing
-    /// moves at twice that; 25 cm/s is well below both and well above noise.
+    /// The unit of velocity change (cm/s) in the smoothness cost, and the
+    /// disagreement above which two feet are not both planted. Walking is
+    /// ~130 cm/s and a swinging foot twice that; 25 cm/s is well below both
+    /// and well above tracking noise.
     pub slip_cm_per_s: f64,
-    /// Flight needs the ballistic path to keep the feet at least this far
-    /// above the floor, so a fast squat's few millimetres of tracking noise
-    /// never look like a jump.
+    /// A coasting stretch is a flight when gravity's arc lifts the feet at
+    /// least this far above the floor, so a few millimetres of tracking
+    /// noise never look like a jump.
     pub flight_margin_cm: f64,
-    /// The take-off velocity is the hips' mean velocity over this long before
-    /// take-off (a running stride's push-off lasts about a tenth of a second).
-    pub takeoff_window_s: f64,
 }
 
 impl Default for ContactParams {
     fn default() -> Self {
-        ContactParams {
-            touch_cm: 2.5,
-            lift_cm: 5.0,
-            slip_cm_per_s: 25.0,
-            flight_margin_cm: 1.0,
-            takeoff_window_s: 0.1,
-        }
+        ContactParams { touch_cm: 2.5, lift_cm: 5.0, slip_cm_per_s: 25.0, flight_margin_cm: 1.0 }
     }
 }
+
+/// A second of coasting costs as much as this many velocity changes of one
+/// `slip_cm_per_s`. Pinning a foot that slides at `u` costs `(u / slip)²`
+/// when it starts and again when it stops, however long it slides; a running
+/// flight (~0.15 s, every foot ≥ 100 cm/s off: ≥ 32 against 9) coasts, and a
+/// walk's handover (~0.1 s, feet ~40 cm/s off: ~5 against 6) mostly does
+/// not. (Measured on the ground-truth files, 30 and 100 per second each do
+/// worse on some motion, so this is the middle of a broad optimum, not a
+/// sharp one.)
+const COAST_COST_PER_S: f64 = 60.0;
+
+/// The longest a body can coast (s): the time in the air of a standing
+/// jump 30 cm high. Without a limit one wrong velocity would be carried
+/// across a whole recording.
+const MAX_COAST_S: f64 = 0.5;
+
+/// Tracking jitter is smoothed away over this time scale (s), the standard
+/// deviation of a Gaussian: three frames at 100 Hz, well under a heel-to-toe
+/// roll (50-100 ms). Without it an inertial suit's millimetres of jitter
+/// cost a 100 Hz recording as much per frame as coasting does.
+const JITTER_S: f64 = 0.03;
+
+/// The distance between a pinned point and the centre of mass's floor
+/// projection that costs as much as one `slip_cm_per_s` of velocity change:
+/// a body's length, so that it never outweighs the evidence of motion.
+const COM_PRIOR_CM: f64 = 100.0;
 
 /// Which feet are on the floor in a frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -84,8 +101,9 @@ pub struct ContactResult {
     /// Added to every joint of frame `f` (cm).
     pub shift_cm: Vec<DVec3>,
     pub support: Vec<Support>,
-    /// Per foot `[left, right]`: the joint of that foot nearest the floor.
-    pub contact_joint: [Vec<usize>; 2],
+    /// Per foot `[left, right]`: the part of the sole pinned while that foot
+    /// is down, else the part nearest the floor.
+    pub contact_part: [Vec<SolePart>; 2],
     /// Per foot: the height of its lowest point above the floor (cm), as
     /// corrected. Zero for a foot on the floor.
     pub clearance_cm: [Vec<f64>; 2],
@@ -93,16 +111,6 @@ pub struct ContactResult {
     /// corrected recording puts its lowest foot points.
     pub ground_cm: f64,
     pub warnings: Vec<String>,
-}
-
-/// Median of a non-empty slice (sorted copy; NaNs last).
-fn median(values: &[f64]) -> f64 {
-    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 fn horizontal(v: DVec3) -> DVec3 {
@@ -130,146 +138,92 @@ pub fn contact_translation(
         return Err(format!("the frame rate must be positive, not {fps}"));
     }
     let dt = 1.0 / fps;
-    let points: [Vec<usize>; 2] = [foot_points(parents, feet.left), foot_points(parents, feet.right)];
-    let relative = |f: usize, j: usize| poses.at(f, j) - poses.at(f, hips);
-
-    // Floor offsets: each foot point's height above the lowest point of its
-    // foot, in the frames where that foot is the lower one; the median is its
-    // height in a foot standing flat.
-    let lowest: [Vec<f64>; 2] = [0, 1].map(|side| {
-        (0..n).map(|f| points[side].iter().map(|&j| relative(f, j).y).fold(f64::INFINITY, f64::min)).collect()
-    });
-    let offsets: [Vec<f64>; 2] = [0, 1].map(|side| {
-        points[side]
-            .iter()
-            .map(|&j| {
-                let heights: Vec<f64> = (0..n)
-                    .filter(|&f| lowest[side][f] <= lowest[1 - side][f])
-                    .map(|f| relative(f, j).y - lowest[side][f])
-                    .collect();
-                median(&heights)
-            })
-            .collect()
-    });
-    // Per frame and foot: the lowest point after offsets, relative to the hips.
+    // Velocities come from differences of positions, which multiply tracking
+    // jitter by the frame rate (a millimetre is 10 cm/s at 100 Hz): smooth it
+    // away on a fixed time scale, unless the frames are already that far
+    // apart (at 30 fps they are 33 ms apart, and a landing happens within one).
+    let sigma_samples = if JITTER_S * fps >= 1.0 { JITTER_S * fps } else { 0.0 };
+    let soles = soles(poses, parents, [feet.left, feet.right], hips).map(|sole| sole.smoothed(sigma_samples));
+    // Per frame and foot: the sole point nearest the floor and its height
+    // above its flat-foot level, relative to the hips.
+    let mut lowest = [vec![0usize; n], vec![0usize; n]];
     let mut low = [vec![0.0; n], vec![0.0; n]];
-    let mut contact_joint = [vec![feet.left; n], vec![feet.right; n]];
     for f in 0..n {
         for side in 0..2 {
-            let (joint, height) = points[side]
-                .iter()
-                .zip(&offsets[side])
-                .map(|(&j, &o)| (j, relative(f, j).y - o))
-                .fold((points[side][0], f64::INFINITY), |best, c| if c.1 < best.1 { c } else { best });
-            low[side][f] = height;
-            contact_joint[side][f] = joint;
+            (lowest[side][f], low[side][f]) = soles[side].lowest(f);
         }
     }
+    // The hips' height above the floor with the lowest sole point on it.
+    let standing: Vec<f64> = (0..n).map(|f| -low[0][f].min(low[1][f])).collect();
+    let com_from_hips = smooth_paths(&centre_of_mass_from_hips(poses, parents, feet, hips), 1, sigma_samples);
 
-    // Vertical: the hips' height above the floor with the lowest point down
-    // (`pinned`), unless that would fall faster than gravity allows: flight.
-    let g = STANDARD_GRAVITY_CM_PER_S2;
-    let pinned: Vec<f64> = (0..n).map(|f| -low[0][f].min(low[1][f])).collect();
-    // Vertical velocity over 30 ms: one frame at 30 fps, three at 100 Hz.
-    let velocity_frames = ((0.03 * fps).round() as usize).max(1);
-    let mut height = vec![pinned[0]; n];
-    let mut flight = vec![false; n];
-    let mut vertical_velocity = 0.0;
+    // Horizontal: the contact sequence along which the centre of mass moves
+    // most smoothly.
+    // With accelerometers: how far each foot's reading is from 1 g.
+    let calm_g = |side: usize, f: usize| -> Option<f64> {
+        foot_accel_g.and_then(|a| a[side].get(f).copied()).map(|a| (a - 1.0).abs())
+    };
+    let contacts =
+        Contacts { soles: &soles, lowest: &lowest, standing: &standing, com_from_hips: &com_from_hips, dt };
+    let (chosen, hips_velocity) = contacts.smoothest(&calm_g, params);
+    let mut path = vec![horizontal(poses.at(0, hips)); n];
     for f in 1..n {
-        let ballistic = height[f - 1] + vertical_velocity * dt - 0.5 * g * dt * dt;
-        if ballistic > pinned[f] + params.flight_margin_cm {
-            flight[f] = true;
-            height[f] = ballistic;
-            vertical_velocity -= g * dt;
-        } else {
-            height[f] = pinned[f];
-            let back = f.saturating_sub(velocity_frames);
-            vertical_velocity = (height[f] - height[back]) / ((f - back) as f64 * dt);
+        path[f] = path[f - 1] + hips_velocity[f] * dt;
+    }
+
+    // Vertical: standing on the lowest sole point, except where a coasting
+    // stretch is a flight.
+    let mut height = standing.clone();
+    let mut flight = vec![false; n];
+    for (start, end) in runs(&chosen, Candidate::Coast) {
+        // The centre of mass's arc from the last frame on the floor to the
+        // first one back (or level at the recording's ends).
+        let (a, b) = (start.saturating_sub(1), end.min(n - 1));
+        let com_height = |f: usize| standing[f] + com_from_hips[f].y;
+        let (ta, tb) = (a as f64 * dt, b as f64 * dt);
+        let arc = |f: usize| -> f64 {
+            let t = f as f64 * dt;
+            let s = if tb > ta { (t - ta) / (tb - ta) } else { 0.0 };
+            com_height(a)
+                + s * (com_height(b) - com_height(a))
+                + 0.5 * STANDARD_GRAVITY_CM_PER_S2 * (t - ta) * (tb - t)
+        };
+        // A flight lifts the feet clear of the floor and never pushes one
+        // into it: where the arc would, a foot was holding the body up.
+        let above = |f: usize| arc(f) - com_from_hips[f].y - standing[f];
+        let lifts =
+            (start..end).all(|f| above(f) >= 0.0) && (start..end).any(|f| above(f) > params.flight_margin_cm);
+        if lifts {
+            for f in start..end {
+                height[f] = (arc(f) - com_from_hips[f].y).max(standing[f]);
+                flight[f] = true;
+            }
         }
     }
     let clearance_cm: [Vec<f64>; 2] = [0, 1].map(|side| (0..n).map(|f| height[f] + low[side][f]).collect());
-
-    // Horizontal: integrate the hips' displacement from the planted feet.
-    let calm_g = |side: usize, f: usize| -> f64 {
-        foot_accel_g.and_then(|a| a[side].get(f).copied()).map_or(0.0, |a| (a - 1.0).abs())
-    };
-    let takeoff_frames = ((params.takeoff_window_s * fps).round() as usize).max(1);
-    let mut support = vec![Support::Flight; n];
-    let mut path = vec![horizontal(poses.at(0, hips)); n];
-    let mut step = vec![DVec3::ZERO; n]; // hips displacement from f - 1 to f
-    // Which feet were planted in the previous frame: they stay down up to
-    // `lift_cm`, the others come down at `touch_cm`.
-    let mut was_down = [false; 2];
-    let mut takeoff_velocity = DVec3::ZERO;
-    for f in 0..n {
-        let down: Vec<usize> = (0..2)
-            .filter(|&side| {
-                let limit = if was_down[side] { params.lift_cm } else { params.touch_cm };
-                !flight[f] && clearance_cm[side][f] <= limit
+    let support: Vec<Support> = (0..n)
+        .map(|f| match chosen[f] {
+            Candidate::Point { side, .. } => Support::Single(foot(side)),
+            Candidate::Double => Support::Double,
+            Candidate::Coast if flight[f] => Support::Flight,
+            // Coasting with a foot on the floor: it slides; the lower one.
+            Candidate::Coast => Support::Single(foot(usize::from(low[1][f] < low[0][f]))),
+        })
+        .collect();
+    let contact_part = [0, 1].map(|side| {
+        (0..n)
+            .map(|f| match chosen[f] {
+                Candidate::Point { side: s, point } if s == side => soles[side].parts[point],
+                _ => soles[side].parts[lowest[side][f]],
             })
-            .collect();
-        // The displacement from f - 1 to f implied by keeping a foot's contact
-        // point (as chosen at f - 1) where it was.
-        let implied = |side: usize| -> DVec3 {
-            let j = contact_joint[side][f - 1];
-            -horizontal(relative(f, j) - relative(f - 1, j))
-        };
-        let previous = if f >= 2 { step[f - 1] } else { DVec3::ZERO };
-        let (chosen, displacement) = match down.as_slice() {
-            [] => {
-                if was_down != [false; 2] || f == 0 {
-                    // Take-off: the mean velocity of the last strides on the floor.
-                    let back = f.saturating_sub(takeoff_frames);
-                    takeoff_velocity = if f > back {
-                        (path[f - 1] - path[back]) / ((f - 1 - back).max(1) as f64)
-                    } else {
-                        DVec3::ZERO
-                    };
-                }
-                (Support::Flight, takeoff_velocity)
-            }
-            _ if f == 0 => {
-                let side = if low[0][0] <= low[1][0] { 0 } else { 1 };
-                (Support::Single(foot(side)), DVec3::ZERO)
-            }
-            [side] => (Support::Single(foot(*side)), implied(*side)),
-            _ => {
-                let (left, right) = (implied(0), implied(1));
-                if (left - right).length() <= params.slip_cm_per_s * dt {
-                    (Support::Double, (left + right) * 0.5)
-                } else {
-                    // One foot slides: follow the one that agrees with the
-                    // body's motion so far (and, with accelerometers, reads
-                    // nearer 1 g, as a still foot does). 50 cm/s per g of
-                    // disagreement weighs a clearly shaking foot like a
-                    // clearly sliding one.
-                    let score = |side: usize, d: DVec3| (d - previous).length() / dt + 50.0 * calm_g(side, f);
-                    if score(0, left) <= score(1, right) {
-                        (Support::Single(Foot::Left), left)
-                    } else {
-                        (Support::Single(Foot::Right), right)
-                    }
-                }
-            }
-        };
-        support[f] = chosen;
-        was_down = match chosen {
-            Support::Single(Foot::Left) => [true, false],
-            Support::Single(Foot::Right) => [false, true],
-            Support::Double => [true, true],
-            Support::Flight => [false, false],
-        };
-        if f > 0 {
-            step[f] = displacement;
-            path[f] = path[f - 1] + displacement;
-        }
-    }
+            .collect()
+    });
 
     // The floor in the recording's coordinates: where its lowest foot points
     // sit in most frames, so a vendor's roughly right vertical is kept and a
     // frozen one gets a sensible level. Frame 0 alone would let one
     // mis-tracked frame shift the whole recording.
-    let ground_cm = median(&(0..n).map(|f| poses.at(f, hips).y - pinned[f]).collect::<Vec<_>>());
+    let ground_cm = median(&(0..n).map(|f| poses.at(f, hips).y - standing[f]).collect::<Vec<_>>());
     let shift_cm = (0..n)
         .map(|f| {
             let hips_now = poses.at(f, hips);
@@ -284,7 +238,286 @@ pub fn contact_translation(
             100.0 * flight_frames as f64 / n as f64
         ));
     }
-    Ok(ContactResult { shift_cm, support, contact_joint, clearance_cm, ground_cm, warnings })
+    Ok(ContactResult { shift_cm, support, contact_part, clearance_cm, ground_cm, warnings })
+}
+
+/// The body's centre of mass relative to the hips, per frame (cm), from
+/// Dempster's segment masses: per leg the thigh 10%, the shank 4.65% and the
+/// foot 1.45% of the body, each at its segment's middle (the foot at the
+/// ankle), and the rest (68%: trunk, head, arms) at the mean of the joints
+/// that are not in a leg. An unweighted mean of all joints would give the
+/// arms a third of the body's mass instead of a tenth.
+fn centre_of_mass_from_hips(poses: &Poses, parents: &[Option<usize>], feet: Feet, hips: usize) -> Vec<DVec3> {
+    // A leg: the joints from the foot up to, not including, the hips.
+    let leg = |foot: usize| {
+        let mut chain = vec![foot];
+        while let Some(parent) = parents.get(*chain.last().unwrap_or(&hips)).copied().flatten() {
+            if parent == hips || chain.contains(&parent) {
+                break;
+            }
+            chain.push(parent);
+        }
+        chain // foot, knee, hip joint, …
+    };
+    let legs = [leg(feet.left), leg(feet.right)];
+    let in_leg: Vec<bool> = (0..poses.joint_count)
+        .map(|j| {
+            legs.iter().any(|l| l.contains(&j))
+                || [feet.left, feet.right]
+                    .iter()
+                    .any(|&foot| crate::feet::foot_points(parents, foot).contains(&j))
+        })
+        .collect();
+    let rest: Vec<usize> = (0..poses.joint_count).filter(|&j| !in_leg[j]).collect();
+    (0..poses.frame_count())
+        .map(|f| {
+            let at = |j: usize| poses.at(f, j);
+            let mut com = DVec3::ZERO;
+            let mut mass = 0.0;
+            for chain in &legs {
+                let (foot, knee, hip) = (chain[0], chain.get(1).copied(), chain.get(2).copied());
+                com += 0.0145 * at(foot);
+                mass += 0.0145;
+                if let Some(knee) = knee {
+                    com += 0.0465 * (at(knee) + at(foot)) * 0.5;
+                    mass += 0.0465;
+                    let hip_at = hip.map_or(at(hips), at);
+                    com += 0.10 * (hip_at + at(knee)) * 0.5;
+                    mass += 0.10;
+                }
+            }
+            if !rest.is_empty() {
+                let upper = 1.0 - mass;
+                com += upper * rest.iter().map(|&j| at(j)).sum::<DVec3>() / rest.len() as f64;
+                mass = 1.0;
+            }
+            com / mass - at(hips)
+        })
+        .collect()
+}
+
+/// The maximal stretches `[start, end)` of frames where `chosen` is `what`.
+fn runs(chosen: &[Candidate], what: Candidate) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut f = 0;
+    while f < chosen.len() {
+        if chosen[f] != what {
+            f += 1;
+            continue;
+        }
+        let start = f;
+        while f < chosen.len() && chosen[f] == what {
+            f += 1;
+        }
+        out.push((start, f));
+    }
+    out
+}
+
+/// How the hips move from frame `f - 1` to `f`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Candidate {
+    /// Point `point` of the sole of foot `side` stays where it was.
+    Point { side: usize, point: usize },
+    /// Both feet stay where they were (their lowest points): the mean.
+    Double,
+    /// No foot holds still: the centre of mass keeps its velocity.
+    Coast,
+}
+
+/// What the choice of contacts works from.
+struct Contacts<'a> {
+    soles: &'a [Sole; 2],
+    /// Per foot and frame, its sole point nearest the floor.
+    lowest: &'a [Vec<usize>; 2],
+    /// Per frame, the hips' height with the lowest sole point on the floor.
+    standing: &'a [f64],
+    /// Per frame, the centre of mass relative to the hips (cm).
+    com_from_hips: &'a [DVec3],
+    dt: f64,
+}
+
+impl Contacts<'_> {
+    /// The hips' horizontal velocity from frame `f - 1` to `f` (cm/s) if
+    /// `candidate` holds (not for `Coast`, whose velocity is carried).
+    fn hips_velocity(&self, candidate: Candidate, f: usize) -> DVec3 {
+        if f == 0 {
+            return DVec3::ZERO;
+        }
+        let pinned = |side: usize, point: usize| {
+            -horizontal(self.soles[side].at(f, point) - self.soles[side].at(f - 1, point)) / self.dt
+        };
+        match candidate {
+            Candidate::Point { side, point } => pinned(side, point),
+            Candidate::Double => (pinned(0, self.lowest[0][f - 1]) + pinned(1, self.lowest[1][f - 1])) * 0.5,
+            Candidate::Coast => DVec3::ZERO,
+        }
+    }
+
+    /// The centre of mass's horizontal velocity relative to the hips, from
+    /// frame `f - 1` to `f` (cm/s).
+    fn com_from_hips_velocity(&self, f: usize) -> DVec3 {
+        if f == 0 {
+            return DVec3::ZERO;
+        }
+        horizontal(self.com_from_hips[f] - self.com_from_hips[f - 1]) / self.dt
+    }
+
+    /// The height above the floor of sole point `point` of foot `side` in
+    /// frame `f`, with the lowest sole point on the floor.
+    fn clearance_cm(&self, side: usize, point: usize, f: usize) -> f64 {
+        self.standing[f] + self.soles[side].height_above_flat_cm(f, point)
+    }
+
+    /// Every candidate, in a fixed order.
+    fn candidates(&self) -> Vec<Candidate> {
+        let mut all: Vec<Candidate> = (0..2)
+            .flat_map(|side| {
+                (0..self.soles[side].point_count()).map(move |point| Candidate::Point { side, point })
+            })
+            .collect();
+        all.extend([Candidate::Double, Candidate::Coast]);
+        all
+    }
+
+    /// The candidate for every frame that makes the centre of mass's
+    /// velocity change least over the whole recording, and the hips'
+    /// horizontal velocity (cm/s) it gives each frame.
+    ///
+    /// Why the whole recording and not frame by frame: when one foot lands as
+    /// the other pushes off, both are low and one of them moves. A choice made
+    /// from the past alone follows whichever foot agrees with the velocity so
+    /// far, and after one late switch that velocity is already wrong, so the
+    /// next switch is late too: a walk comes out several percent short. The
+    /// frames after the switch tell which foot the body went on with.
+    ///
+    /// Why the centre of mass: Newton's law holds for it, not for the hips
+    /// joint, which swings around it (in a walk the hips' speed varies by
+    /// half within each step, fastest just when the feet change over).
+    ///
+    /// Costs, in units of one `slip_cm_per_s` of velocity change, summed over
+    /// frames (Viterbi; exact for the pinned candidates, whose velocity each
+    /// frame is fixed; a coasting stretch carries the velocity it entered
+    /// with along its best way in):
+    /// - a velocity change of `Δv` costs `(Δv / slip)²`;
+    /// - a sole point `c` cm above the floor costs `(c / touch_cm)²`, and
+    ///   above `lift_cm` it cannot be pinned;
+    /// - with accelerometers, a pinned foot reading `a` g costs
+    ///   `(2 (a − 1))²`: a still foot reads 1 g, and half a g off weighs like
+    ///   a clearly sliding foot;
+    /// - a pinned point `d` cm from the centre of mass's floor projection
+    ///   costs `(d / COM_PRIOR_CM)²` (see there);
+    /// - coasting costs [`COAST_COST_PER_S`] per second.
+    fn smoothest(
+        &self,
+        calm_g: &dyn Fn(usize, usize) -> Option<f64>,
+        params: &ContactParams,
+    ) -> (Vec<Candidate>, Vec<DVec3>) {
+        let n = self.standing.len();
+        let candidates = self.candidates();
+        let m = candidates.len();
+        let coast = m - 1;
+        let point_cost = |side: usize, point: usize, f: usize| -> f64 {
+            let before = self.clearance_cm(side, point, f.saturating_sub(1));
+            let after = self.clearance_cm(side, point, f);
+            if before.max(after) > params.lift_cm {
+                return f64::INFINITY;
+            }
+            let c = 0.5 * (before + after).max(0.0) / params.touch_cm;
+            let shake = 2.0 * calm_g(side, f).unwrap_or(0.0);
+            // The weight: a foot bears it at its centre of pressure, near the
+            // centre of mass's floor projection (behind the heel at heel
+            // strike, ahead of the toes at push-off, over the ball in a turn
+            // on it). Weak: it only decides between points that are equally
+            // low and equally smooth, as in a flat foot turning on the spot.
+            let weight =
+                horizontal(self.soles[side].at(f, point) - self.com_from_hips[f]).length() / COM_PRIOR_CM;
+            c * c + shake * shake + weight * weight
+        };
+        let own_cost = |candidate: Candidate, f: usize| -> f64 {
+            match candidate {
+                Candidate::Point { side, point } => point_cost(side, point, f),
+                Candidate::Double => {
+                    let before = f.saturating_sub(1);
+                    point_cost(0, self.lowest[0][before], f) + point_cost(1, self.lowest[1][before], f)
+                }
+                Candidate::Coast => {
+                    // With accelerometers: a foot reading 1 g rests on the
+                    // floor, so the body is not coasting; a foot half a g
+                    // off says nothing.
+                    let resting = (0..2)
+                        .map(|side| calm_g(side, f).map_or(0.0, |off| (1.0 - 2.0 * off).max(0.0)))
+                        .fold(0.0, f64::max);
+                    COAST_COST_PER_S * self.dt + (2.0 * resting).powi(2)
+                }
+            }
+        };
+        let slip = params.slip_cm_per_s;
+        // Per candidate: the best cost of a sequence ending in it, and the
+        // centre of mass's velocity it ends with.
+        let mut cost: Vec<f64> = candidates.iter().map(|&c| own_cost(c, 0)).collect();
+        let mut com_velocity = vec![DVec3::ZERO; m];
+        let mut back = vec![0u32; n * m];
+        // The coasting velocity carried into each frame, along its best way
+        // in, and how many frames that way has been coasting.
+        let mut carried = vec![DVec3::ZERO; n];
+        let mut coast_frames = 0usize;
+        let max_coast_frames = (MAX_COAST_S / self.dt).round().max(1.0) as usize;
+        let mut next_cost = vec![0.0; m];
+        let mut next_velocity = vec![DVec3::ZERO; m];
+        for f in 1..n {
+            let com_from_hips = self.com_from_hips_velocity(f);
+            for (i, &candidate) in candidates.iter().enumerate() {
+                let own = own_cost(candidate, f);
+                if !own.is_finite() {
+                    next_cost[i] = f64::INFINITY;
+                    continue;
+                }
+                let now =
+                    if i == coast { None } else { Some(self.hips_velocity(candidate, f) + com_from_hips) };
+                let (mut best, mut best_from) = (f64::INFINITY, coast);
+                for j in 0..m {
+                    // A coasting stretch that has lasted its longest can
+                    // only land.
+                    if !cost[j].is_finite() || (i == coast && j == coast && coast_frames >= max_coast_frames)
+                    {
+                        continue;
+                    }
+                    // Coasting keeps the velocity it comes in with; frame 0
+                    // has no velocity to compare with.
+                    let change = match now {
+                        Some(v) if f > 1 => (v - com_velocity[j]).length() / slip,
+                        _ => 0.0,
+                    };
+                    let total = cost[j] + change * change;
+                    if total < best {
+                        (best, best_from) = (total, j);
+                    }
+                }
+                next_cost[i] = best + own;
+                next_velocity[i] = now.unwrap_or(if f > 1 { com_velocity[best_from] } else { DVec3::ZERO });
+                back[f * m + i] = best_from as u32;
+            }
+            carried[f] = next_velocity[coast];
+            coast_frames = if back[f * m + coast] as usize == coast { coast_frames + 1 } else { 1 };
+            std::mem::swap(&mut cost, &mut next_cost);
+            std::mem::swap(&mut com_velocity, &mut next_velocity);
+        }
+        let mut i = (0..m).min_by(|&a, &b| cost[a].total_cmp(&cost[b])).unwrap_or(coast);
+        let mut chosen = vec![candidates[i]; n];
+        for f in (1..n).rev() {
+            chosen[f] = candidates[i];
+            i = back[f * m + i] as usize;
+        }
+        chosen[0] = chosen.get(1).copied().unwrap_or(candidates[i]);
+        let hips_velocity = (0..n)
+            .map(|f| match chosen[f] {
+                Candidate::Coast => carried[f] - self.com_from_hips_velocity(f),
+                c => self.hips_velocity(c, f),
+            })
+            .collect();
+        (chosen, hips_velocity)
+    }
 }
 
 fn foot(side: usize) -> Foot {

@@ -26,6 +26,7 @@ pub mod recording;
 pub mod session;
 pub mod signals;
 pub mod skeleton;
+pub mod sole;
 pub mod table;
 
 pub use error::Error;

@@ -146,6 +146,30 @@ pub fn smooth_gaussian_clean(x: &[f64], window_samples: f64, alpha: f64) -> Vec<
         .collect()
 }
 
+/// A path smoothed by a Gaussian of standard deviation `sigma_samples`,
+/// each coordinate as [`smooth_gaussian_clean`] smooths it (kernel out to 2.5
+/// sigma, renormalised at the ends). `stride` paths are interleaved frame by
+/// frame in `points` (point `k` of frame `f` at `f * stride + k`) and each is
+/// smoothed on its own.
+pub fn smooth_paths(points: &[DVec3], stride: usize, sigma_samples: f64) -> Vec<DVec3> {
+    let alpha = 2.5;
+    let window = 2.0 * alpha * sigma_samples;
+    let mut out = points.to_vec();
+    if stride == 0 {
+        return out;
+    }
+    let n = points.len() / stride;
+    for k in 0..stride {
+        for axis in 0..3 {
+            let series: Vec<f64> = (0..n).map(|f| points[f * stride + k][axis]).collect();
+            for (f, v) in smooth_gaussian_clean(&series, window, alpha).into_iter().enumerate() {
+                out[f * stride + k][axis] = v;
+            }
+        }
+    }
+    out
+}
+
 /// What an accelerometer riding on `positions_cm` would read, as a magnitude
 /// in g: `|p'' + (0, g, 0)| / g` with `g` = [`STANDARD_GRAVITY_CM_PER_S2`] and
 /// +Y up (an accelerometer at rest reads 1 g). `p''` is the central second
