@@ -146,24 +146,31 @@ pub fn smooth_gaussian_clean(x: &[f64], window_samples: f64, alpha: f64) -> Vec<
         .collect()
 }
 
-/// A path smoothed by a Gaussian of standard deviation `sigma_samples`,
-/// each coordinate as [`smooth_gaussian_clean`] smooths it (kernel out to 2.5
-/// sigma, renormalised at the ends). `stride` paths are interleaved frame by
-/// frame in `points` (point `k` of frame `f` at `f * stride + k`) and each is
-/// smoothed on its own.
+/// A path smoothed by a Gaussian of standard deviation `sigma_samples`
+/// (kernel out to 2.5 sigma, as [`smooth_gaussian_clean`] weighs it). Before
+/// smoothing, each end is extended by its point reflection (`2 p[0] - p[k]`),
+/// so a body moving in a straight line at constant speed keeps exactly that
+/// speed up to the first and last frame; the renormalised kernel alone would
+/// slow it there. `stride` paths are interleaved frame by frame in `points`
+/// (point `k` of frame `f` at `f * stride + k`) and each is smoothed on its own.
 pub fn smooth_paths(points: &[DVec3], stride: usize, sigma_samples: f64) -> Vec<DVec3> {
     let alpha = 2.5;
     let window = 2.0 * alpha * sigma_samples;
     let mut out = points.to_vec();
-    if stride == 0 {
+    let n = points.len().checked_div(stride).unwrap_or(0);
+    if n < 2 || window.is_nan() || window < 2.0 {
         return out;
     }
-    let n = points.len() / stride;
+    let half = ((window / 2.0) as usize).min(n - 1);
     for k in 0..stride {
         for axis in 0..3 {
-            let series: Vec<f64> = (0..n).map(|f| points[f * stride + k][axis]).collect();
-            for (f, v) in smooth_gaussian_clean(&series, window, alpha).into_iter().enumerate() {
-                out[f * stride + k][axis] = v;
+            let at = |f: usize| points[f * stride + k][axis];
+            let mut series = Vec::with_capacity(n + 2 * half);
+            series.extend((1..=half).rev().map(|d| 2.0 * at(0) - at(d)));
+            series.extend((0..n).map(at));
+            series.extend((1..=half).map(|d| 2.0 * at(n - 1) - at(n - 1 - d)));
+            for (f, v) in smooth_gaussian_clean(&series, window, alpha)[half..half + n].iter().enumerate() {
+                out[f * stride + k][axis] = *v;
             }
         }
     }
@@ -204,6 +211,22 @@ pub fn magnitudes(v: &[DVec3]) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn smoothing_a_path_keeps_a_straight_line_to_its_ends() {
+        let line: Vec<DVec3> = (0..20).map(|f| DVec3::new(3.0 * f as f64, 1.0, -0.5 * f as f64)).collect();
+        let smoothed = smooth_paths(&line, 1, 3.0);
+        for (a, b) in line.iter().zip(&smoothed) {
+            assert!((*a - *b).length() < 1e-9, "{a} vs {b}");
+        }
+        // Two interleaved paths are smoothed each on its own; a kink is rounded.
+        let kinked: Vec<DVec3> =
+            (0..40).flat_map(|f| [DVec3::ZERO, DVec3::splat((f as f64 - 20.0).abs())]).collect();
+        let smoothed = smooth_paths(&kinked, 2, 3.0);
+        assert!(smoothed.iter().step_by(2).all(|p| *p == DVec3::ZERO));
+        assert!(smoothed[2 * 20 + 1].x > 1.0);
+        assert_eq!(smooth_paths(&kinked, 2, 0.2), kinked);
+    }
 
     #[test]
     fn kernel_sums_to_one_and_is_symmetric_for_odd_length() {

@@ -188,3 +188,68 @@ pub fn soles(poses: &Poses, parents: &[Option<usize>], feet: [usize; 2], hips: u
         Sole { parts, points_from_hips_cm: points, floor_offsets_cm }
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Hips (0), left ankle (1) and toe (2), right ankle (3) and toe (4).
+    const PARENTS: [Option<usize>; 5] = [None, Some(0), Some(1), Some(0), Some(3)];
+
+    /// A body standing on flat feet facing +Z, the left foot tilted toes-up by
+    /// `left_toes_up` radians about its heel in frame `f`.
+    fn standing(n: usize, left_toes_up: impl Fn(usize) -> f64) -> Poses {
+        let mut positions_cm = Vec::new();
+        for f in 0..n {
+            let (ankle_y, toe_ahead, toe_y) = (8.0, 14.0, 2.0);
+            let a = left_toes_up(f);
+            // Rotating the left foot about the point on the sole (at the
+            // toe's level) 5.6 cm behind the ankle, 0.4 of the ankle→toe
+            // distance: the heel.
+            let heel = DVec3::new(-10.0, toe_y, -0.4 * toe_ahead);
+            let rotate = |p: DVec3| {
+                let d = p - heel;
+                heel + DVec3::new(d.x, d.y * a.cos() + d.z * a.sin(), -d.y * a.sin() + d.z * a.cos())
+            };
+            positions_cm.extend([
+                DVec3::new(0.0, 90.0, 0.0),
+                rotate(DVec3::new(-10.0, ankle_y, 0.0)),
+                rotate(DVec3::new(-10.0, toe_y, toe_ahead)),
+                DVec3::new(10.0, ankle_y, 0.0),
+                DVec3::new(10.0, toe_y, toe_ahead),
+            ]);
+        }
+        Poses { joint_count: 5, positions_cm }
+    }
+
+    #[test]
+    fn the_heel_is_on_the_sole_behind_the_ankle_and_rocks_with_the_foot() {
+        // Flat for most frames (so that is what "flat" is), then heel strike:
+        // toes up 20°, rotating about the heel.
+        let n = 100;
+        let poses = standing(n, |f| if f >= 90 { 20f64.to_radians() } else { 0.0 });
+        let [left, right] = soles(&poses, &PARENTS, [1, 3], 0);
+        assert_eq!(left.parts, vec![SolePart::Heel, SolePart::UnderAnkle, SolePart::Joint(2)]);
+        let hips = DVec3::new(0.0, 90.0, 0.0);
+        // Flat: the heel sits at the toe's level, 0.4 of the way back.
+        let heel = left.at(0, 0) + hips;
+        assert!((heel - DVec3::new(-10.0, 2.0, -5.6)).length() < 1e-9, "{heel}");
+        assert!((right.at(0, 1) + hips - DVec3::new(10.0, 2.0, 0.0)).length() < 1e-9);
+        for k in 0..3 {
+            assert!(left.floor_offsets_cm[k].abs() < 1e-9, "{:?}", left.floor_offsets_cm);
+        }
+        // Heel strike: the heel is the lowest point and it has not moved.
+        assert_eq!(left.lowest(95).0, 0);
+        assert!((left.at(95, 0) - left.at(0, 0)).length() < 1e-9);
+        assert!(left.height_above_flat_cm(95, 2) - left.height_above_flat_cm(0, 2) > 6.0);
+    }
+
+    #[test]
+    fn a_foot_without_toes_pins_its_ankle() {
+        let poses =
+            Poses { joint_count: 3, positions_cm: vec![DVec3::new(0.0, 90.0, 0.0), DVec3::X, -DVec3::X] };
+        let [left, _] = soles(&poses, &[None, Some(0), Some(0)], [1, 2], 0);
+        assert_eq!(left.parts, vec![SolePart::Joint(1)]);
+        assert_eq!(left.at(0, 0), DVec3::new(1.0, -90.0, 0.0));
+    }
+}
