@@ -6,7 +6,8 @@
 //! - [`kinematics`] turns channels into global joint positions ([`skeleton::Poses`]),
 //! - [`signals`] smooths and differentiates per-frame signals,
 //! - [`paper`] is Hachaj & Ogiela's translation method,
-//! - [`contact`] is embusen's own: foot contacts frame by frame, with flight,
+//! - [`contact`] is embusen's own: foot contacts chosen over the whole
+//!   recording, with flight; [`sole`] is its model of the foot's floor points,
 //! - [`eval`] measures both against recordings whose true root motion is known,
 //! - [`metrics`] measures floor paths (length, error, closure),
 //! - [`recording`] ties a file to the method and writes the result back,
