@@ -232,7 +232,9 @@ pub fn contact_translation(
         .collect();
     let mut warnings = Vec::new();
     let flight_frames = flight.iter().filter(|&&x| x).count();
-    if flight_frames * 5 > n {
+    // A fast run is in the air up to about two thirds of the time; more than
+    // three quarters is not a body on its feet.
+    if flight_frames * 4 > n * 3 {
         warnings.push(format!(
             "{:.0}% of the frames are in flight; check that the feet are right and Y is up",
             100.0 * flight_frames as f64 / n as f64
