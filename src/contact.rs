@@ -27,10 +27,11 @@
 
 use glam::DVec3;
 
+use crate::feet::foot_points;
 use crate::feet::{Feet, Foot};
-use crate::signals::{STANDARD_GRAVITY_CM_PER_S2, smooth_paths};
+use crate::signals::{STANDARD_GRAVITY_CM_PER_S2, median, smooth_paths};
 use crate::skeleton::Poses;
-use crate::sole::{Sole, SolePart, median, soles};
+use crate::sole::{Sole, SolePart, soles};
 
 /// Parameters of the contact method. The defaults are physical quantities,
 /// not fitted to any recording.
@@ -42,10 +43,10 @@ pub struct ContactParams {
     pub touch_cm: f64,
     /// A sole point higher than this is never pinned.
     pub lift_cm: f64,
-    /// The unit of velocity change (cm/s) in the smoothness cost, and the
-    /// disagreement above which two feet are not both planted. Walking is
-    /// ~130 cm/s and a swinging foot twice that; 25 cm/s is well below both
-    /// and well above tracking noise.
+    /// The unit of velocity change (cm/s) in the smoothness cost: a foot
+    /// sliding this fast costs as much as a point `touch_cm` off the floor.
+    /// Walking is ~130 cm/s and a swinging foot twice that; 25 cm/s is well
+    /// below both and well above tracking noise.
     pub slip_cm_per_s: f64,
     /// A coasting stretch is a flight when gravity's arc lifts the feet at
     /// least this far above the floor, so a few millimetres of tracking
@@ -262,15 +263,10 @@ fn centre_of_mass_from_hips(poses: &Poses, parents: &[Option<usize>], feet: Feet
         chain // foot, knee, hip joint, …
     };
     let legs = [leg(feet.left), leg(feet.right)];
-    let in_leg: Vec<bool> = (0..poses.joint_count)
-        .map(|j| {
-            legs.iter().any(|l| l.contains(&j))
-                || [feet.left, feet.right]
-                    .iter()
-                    .any(|&foot| crate::feet::foot_points(parents, foot).contains(&j))
-        })
+    let toes = [foot_points(parents, feet.left), foot_points(parents, feet.right)];
+    let rest: Vec<usize> = (0..poses.joint_count)
+        .filter(|j| !legs.iter().chain(&toes).any(|joints| joints.contains(j)))
         .collect();
-    let rest: Vec<usize> = (0..poses.joint_count).filter(|&j| !in_leg[j]).collect();
     (0..poses.frame_count())
         .map(|f| {
             let at = |j: usize| poses.at(f, j);
@@ -468,15 +464,18 @@ impl Contacts<'_> {
         let mut next_cost = vec![0.0; m];
         let mut next_velocity = vec![DVec3::ZERO; m];
         for f in 1..n {
-            let com_from_hips = self.com_from_hips_velocity(f);
+            let com_from_hips_velocity = self.com_from_hips_velocity(f);
             for (i, &candidate) in candidates.iter().enumerate() {
                 let own = own_cost(candidate, f);
                 if !own.is_finite() {
                     next_cost[i] = f64::INFINITY;
                     continue;
                 }
-                let now =
-                    if i == coast { None } else { Some(self.hips_velocity(candidate, f) + com_from_hips) };
+                let now = if i == coast {
+                    None
+                } else {
+                    Some(self.hips_velocity(candidate, f) + com_from_hips_velocity)
+                };
                 let (mut best, mut best_from) = (f64::INFINITY, coast);
                 for j in 0..m {
                     // A coasting stretch that has lasted its longest can

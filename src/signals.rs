@@ -146,6 +146,17 @@ pub fn smooth_gaussian_clean(x: &[f64], window_samples: f64, alpha: f64) -> Vec<
         .collect()
 }
 
+/// Median of the finite values (the upper middle of an even count); 0 when
+/// there are none.
+pub fn median(values: &[f64]) -> f64 {
+    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
 /// A path smoothed by a Gaussian of standard deviation `sigma_samples`
 /// (kernel out to 2.5 sigma, as [`smooth_gaussian_clean`] weighs it). Before
 /// smoothing, each end is extended by its point reflection (`2 p[0] - p[k]`),

@@ -12,10 +12,8 @@
 
 use glam::DVec3;
 
-// Trigonometry goes through `libm`, so the CLI and the wasm app compute
-// bit-identical results.
-
 use crate::feet::foot_points;
+use crate::signals::{median, smooth_paths};
 use crate::skeleton::Poses;
 
 /// Which part of the foot a sole point is.
@@ -69,17 +67,10 @@ impl Sole {
     }
 
     /// The sole with every point's path smoothed over `sigma_samples` (see
-    /// [`crate::signals::smooth_paths`]).
-    pub fn smoothed(&self, sigma_samples: f64) -> Sole {
-        Sole {
-            parts: self.parts.clone(),
-            points_from_hips_cm: crate::signals::smooth_paths(
-                &self.points_from_hips_cm,
-                self.parts.len(),
-                sigma_samples,
-            ),
-            floor_offsets_cm: self.floor_offsets_cm.clone(),
-        }
+    /// [`smooth_paths`]).
+    pub fn smoothed(self, sigma_samples: f64) -> Sole {
+        let points_from_hips_cm = smooth_paths(&self.points_from_hips_cm, self.parts.len(), sigma_samples);
+        Sole { points_from_hips_cm, ..self }
     }
 
     /// The point of frame `f` lowest above its flat-foot level, and that height.
@@ -88,16 +79,6 @@ impl Sole {
             .map(|k| (k, self.height_above_flat_cm(f, k)))
             .fold((0, f64::INFINITY), |best, c| if c.1 < best.1 { c } else { best })
     }
-}
-
-/// Median of the finite values (upper middle); 0 when there are none.
-pub(crate) fn median(values: &[f64]) -> f64 {
-    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 /// Per point, its median height above the lowest point of the same foot over
@@ -156,12 +137,16 @@ pub fn soles(poses: &Poses, parents: &[Option<usize>], feet: [usize; 2], hips: u
         let ankle_to_toe = |f: usize| joint_points[side][f * count + toe] - joint_points[side][f * count];
         // The ankle→toe line dips toward the toe in a flat foot; its median
         // dip while standing tells where "flat" is for this skeleton.
+        // Trigonometry through `libm`, so the CLI and the wasm app compute
+        // bit-identical results.
         let dip = |v: DVec3| libm::asin((-v.y / v.length()).clamp(-1.0, 1.0));
         let flat_dip = median(&standing[side].iter().map(|&f| dip(ankle_to_toe(f))).collect::<Vec<_>>());
         let toe_distance =
             median(&standing[side].iter().map(|&f| ankle_to_toe(f).length()).collect::<Vec<_>>());
         let heel_behind_cm = HEEL_BEHIND_ANKLE * toe_distance * libm::cos(flat_dip);
-        let ankle_height_cm = offsets[0] - offsets[toe].min(0.0);
+        // The sole's level is the foot's lowest point when flat, so the
+        // ankle's floor offset is its height above the sole.
+        let ankle_height_cm = offsets[0];
         // Per frame: the heel, in the frame of the sole (forward along the
         // sole, down perpendicular to it), then the toe joints; the ankle
         // itself never touches the floor.
