@@ -52,13 +52,36 @@ pub struct ContactParams {
     /// least this far above the floor, so a few millimetres of tracking
     /// noise never look like a jump.
     pub flight_margin_cm: f64,
+    /// How far the sole lies below the foot's lowest joint when the foot
+    /// stands flat ([`crate::sole`]); `None`: estimated from the recording,
+    /// as the depth among [`SOLE_DEPTHS_CM`] whose best contacts fit the
+    /// physics best.
+    pub sole_depth_cm: Option<f64>,
 }
 
 impl Default for ContactParams {
     fn default() -> Self {
-        ContactParams { touch_cm: 2.5, lift_cm: 5.0, slip_cm_per_s: 25.0, flight_margin_cm: 1.0 }
+        ContactParams {
+            touch_cm: 2.5,
+            lift_cm: 5.0,
+            slip_cm_per_s: 25.0,
+            flight_margin_cm: 1.0,
+            sole_depth_cm: None,
+        }
     }
 }
+
+/// The sole depths (cm) tried when the recording does not say: a toe end
+/// site marks the skin (0), a ball-of-foot joint centre sits 2–3 cm above the
+/// skin, and a shoe adds up to 3 cm more.
+pub const SOLE_DEPTHS_CM: [f64; 7] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+
+/// The costs below add up evidence over time, in units of this duration: a
+/// height or an accelerometer reading held for this long costs its square
+/// once, and so does a velocity change spread over it. (They were first
+/// written per frame at 30 fps; as integrals over time a 100 Hz recording
+/// weighs a second of evidence as a 30 fps one does.)
+const COST_TIME_S: f64 = 1.0 / 30.0;
 
 /// A second of coasting costs as much as this many velocity changes of one
 /// `slip_cm_per_s`. Pinning a foot that slides at `u` costs `(u / slip)²`
@@ -86,6 +109,11 @@ const JITTER_S: f64 = 0.03;
 /// a body's length, so that it never outweighs the evidence of motion.
 const COM_PRIOR_CM: f64 = 100.0;
 
+/// A centre of mass lower than this above the floor (cm) is taken to be this
+/// high when reckoning the floor's push: a body crouched or lying down is not
+/// an inverted pendulum, and the push would grow without bound.
+const MIN_COM_HEIGHT_CM: f64 = 30.0;
+
 /// Which feet are on the floor in a frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Support {
@@ -111,6 +139,8 @@ pub struct ContactResult {
     /// The floor's height in the recording's coordinates (cm): where the
     /// corrected recording puts its lowest foot points.
     pub ground_cm: f64,
+    /// The sole depth used (cm): as given, or as estimated.
+    pub sole_depth_cm: f64,
     pub warnings: Vec<String>,
 }
 
@@ -144,29 +174,30 @@ pub fn contact_translation(
     // away on a fixed time scale, unless the frames are already that far
     // apart (at 30 fps they are 33 ms apart, and a landing happens within one).
     let sigma_samples = if JITTER_S * fps >= 1.0 { JITTER_S * fps } else { 0.0 };
-    let soles = soles(poses, parents, [feet.left, feet.right], hips).map(|sole| sole.smoothed(sigma_samples));
-    // Per frame and foot: the sole point nearest the floor and its height
-    // above its flat-foot level, relative to the hips.
-    let mut lowest = [vec![0usize; n], vec![0usize; n]];
-    let mut low = [vec![0.0; n], vec![0.0; n]];
-    for f in 0..n {
-        for side in 0..2 {
-            (lowest[side][f], low[side][f]) = soles[side].lowest(f);
-        }
-    }
-    // The hips' height above the floor with the lowest sole point on it.
-    let standing: Vec<f64> = (0..n).map(|f| -low[0][f].min(low[1][f])).collect();
     let com_from_hips = smooth_paths(&centre_of_mass_from_hips(poses, parents, feet, hips), 1, sigma_samples);
-
-    // Horizontal: the contact sequence along which the centre of mass moves
-    // most smoothly.
     // With accelerometers: how far each foot's reading is from 1 g.
     let calm_g = |side: usize, f: usize| -> Option<f64> {
         foot_accel_g.and_then(|a| a[side].get(f).copied()).map(|a| (a - 1.0).abs())
     };
-    let contacts =
-        Contacts { soles: &soles, lowest: &lowest, standing: &standing, com_from_hips: &com_from_hips, dt };
-    let (chosen, hips_velocity) = contacts.smoothest(&calm_g, params);
+    // Horizontal: for each sole depth, the contact sequence along which the
+    // centre of mass moves most as the floor pushes it; the depth whose best
+    // sequence fits best.
+    let depths = params.sole_depth_cm.map_or(SOLE_DEPTHS_CM.to_vec(), |depth| vec![depth]);
+    let mut best: Option<Contacts> = None;
+    for sole_depth_cm in depths {
+        let soles = soles(poses, parents, [feet.left, feet.right], hips, sole_depth_cm)
+            .map(|sole| sole.smoothed(sigma_samples));
+        let contacts = Contacts::choose(soles, sole_depth_cm, &com_from_hips, dt, &calm_g, params);
+        // Ties keep the shallower sole: where depth makes no difference (no
+        // foot rolls), the joints themselves are the plainest answer.
+        if best.as_ref().is_none_or(|b| contacts.cost < b.cost) {
+            best = Some(contacts);
+        }
+    }
+    let Some(Contacts { soles, lowest, low, standing, chosen, hips_velocity, sole_depth_cm, .. }) = best
+    else {
+        return Err("no sole depth to try".into());
+    };
     let mut path = vec![horizontal(poses.at(0, hips)); n];
     for f in 1..n {
         path[f] = path[f - 1] + hips_velocity[f] * dt;
@@ -241,7 +272,7 @@ pub fn contact_translation(
             100.0 * flight_frames as f64 / n as f64
         ));
     }
-    Ok(ContactResult { shift_cm, support, contact_part, clearance_cm, ground_cm, warnings })
+    Ok(ContactResult { shift_cm, support, contact_part, clearance_cm, ground_cm, sole_depth_cm, warnings })
 }
 
 /// The body's centre of mass relative to the hips, per frame (cm), from
@@ -323,19 +354,62 @@ enum Candidate {
     Coast,
 }
 
-/// What the choice of contacts works from.
+/// The contacts chosen for one sole depth, and what they were chosen from.
 struct Contacts<'a> {
-    soles: &'a [Sole; 2],
-    /// Per foot and frame, its sole point nearest the floor.
-    lowest: &'a [Vec<usize>; 2],
+    soles: [Sole; 2],
+    sole_depth_cm: f64,
+    /// Per foot and frame, its sole point nearest the floor, and that point's
+    /// height above its flat-foot level, relative to the hips.
+    lowest: [Vec<usize>; 2],
+    low: [Vec<f64>; 2],
     /// Per frame, the hips' height with the lowest sole point on the floor.
-    standing: &'a [f64],
+    standing: Vec<f64>,
     /// Per frame, the centre of mass relative to the hips (cm).
     com_from_hips: &'a [DVec3],
     dt: f64,
+    /// Per frame, the candidate chosen, and the hips' horizontal velocity
+    /// (cm/s) it gives.
+    chosen: Vec<Candidate>,
+    hips_velocity: Vec<DVec3>,
+    /// The total cost of the choice (see [`Contacts::smoothest`]).
+    cost: f64,
 }
 
-impl Contacts<'_> {
+impl<'a> Contacts<'a> {
+    /// The best contacts on `soles`.
+    fn choose(
+        soles: [Sole; 2],
+        sole_depth_cm: f64,
+        com_from_hips: &'a [DVec3],
+        dt: f64,
+        calm_g: &dyn Fn(usize, usize) -> Option<f64>,
+        params: &ContactParams,
+    ) -> Self {
+        let n = com_from_hips.len();
+        let mut lowest = [vec![0usize; n], vec![0usize; n]];
+        let mut low = [vec![0.0; n], vec![0.0; n]];
+        for f in 0..n {
+            for side in 0..2 {
+                (lowest[side][f], low[side][f]) = soles[side].lowest(f);
+            }
+        }
+        let standing: Vec<f64> = (0..n).map(|f| -low[0][f].min(low[1][f])).collect();
+        let mut contacts = Contacts {
+            soles,
+            sole_depth_cm,
+            lowest,
+            low,
+            standing,
+            com_from_hips,
+            dt,
+            chosen: Vec::new(),
+            hips_velocity: Vec::new(),
+            cost: 0.0,
+        };
+        (contacts.chosen, contacts.hips_velocity, contacts.cost) = contacts.smoothest(calm_g, params);
+        contacts
+    }
+
     /// The hips' horizontal velocity from frame `f - 1` to `f` (cm/s) if
     /// `candidate` holds (not for `Coast`, whose velocity is carried).
     fn hips_velocity(&self, candidate: Candidate, f: usize) -> DVec3 {
@@ -378,9 +452,26 @@ impl Contacts<'_> {
         all
     }
 
-    /// The candidate for every frame that makes the centre of mass's
-    /// velocity change least over the whole recording, and the hips'
-    /// horizontal velocity (cm/s) it gives each frame.
+    /// Where the floor can push the body from in frame `f` if `candidate`
+    /// holds: the segment `[from, to]` (relative to the hips) on which the
+    /// centre of pressure lies. A foot presses anywhere between its heel and
+    /// its toes, whichever point of it rolls; two feet anywhere between them.
+    fn pressure_segment(&self, candidate: Candidate, f: usize) -> Option<(DVec3, DVec3)> {
+        match candidate {
+            Candidate::Point { side, .. } => {
+                let sole = &self.soles[side];
+                Some((sole.at(f, 0), sole.at(f, sole.point_count() - 1)))
+            }
+            Candidate::Double => {
+                Some((self.soles[0].at(f, self.lowest[0][f]), self.soles[1].at(f, self.lowest[1][f])))
+            }
+            Candidate::Coast => None,
+        }
+    }
+
+    /// The candidate for every frame along which the centre of mass moves
+    /// most as the floor pushes it, over the whole recording; the hips'
+    /// horizontal velocity (cm/s) it gives each frame; and its total cost.
     ///
     /// Why the whole recording and not frame by frame: when one foot lands as
     /// the other pushes off, both are low and one of them moves. A choice made
@@ -393,28 +484,44 @@ impl Contacts<'_> {
     /// joint, which swings around it (in a walk the hips' speed varies by
     /// half within each step, fastest just when the feet change over).
     ///
+    /// How the floor pushes: along the line from the centre of pressure to
+    /// the centre of mass, holding the body up (the inverted pendulum). A
+    /// centre of mass `d` cm ahead of the pressure point and `h` cm above the
+    /// floor is pushed forward at `g d / h`: a walker speeds up once past the
+    /// stance foot and slows down before it, and a body held by a foot far
+    /// behind it cannot be moving backwards. The change of velocity the
+    /// choice implies is compared with that push, the pressure point placed
+    /// where on its segment ([`Contacts::pressure_segment`]) it fits best.
+    ///
     /// Costs, in units of one `slip_cm_per_s` of velocity change, summed over
     /// frames (Viterbi; exact for the pinned candidates, whose velocity each
     /// frame is fixed; a coasting stretch carries the velocity it entered
-    /// with along its best way in):
-    /// - a velocity change of `Δv` costs `(Δv / slip)²`;
-    /// - a sole point `c` cm above the floor costs `(c / touch_cm)²`, and
-    ///   above `lift_cm` it cannot be pinned;
+    /// with along its best way in). Evidence that lasts is weighed per
+    /// [`COST_TIME_S`] of time, so the frame rate does not change the balance:
+    /// - a velocity change `Δv` that the floor's push does not explain costs
+    ///   `(Δv / slip)²`, times `COST_TIME_S / dt`;
+    /// - a sole point `c` cm above the floor costs `(c / touch_cm)²` per
+    ///   `COST_TIME_S`, and above `lift_cm` it cannot be pinned;
     /// - with accelerometers, a pinned foot reading `a` g costs
-    ///   `(2 (a − 1))²`: a still foot reads 1 g, and half a g off weighs like
-    ///   a clearly sliding foot;
+    ///   `(2 (a − 1))²` per `COST_TIME_S`: a still foot reads 1 g, and half
+    ///   a g off weighs like a clearly sliding foot;
     /// - a pinned point `d` cm from the centre of mass's floor projection
-    ///   costs `(d / COM_PRIOR_CM)²` (see there);
-    /// - coasting costs [`COAST_COST_PER_S`] per second.
+    ///   costs `(d / COM_PRIOR_CM)²` per `COST_TIME_S` (see there);
+    /// - coasting costs [`COAST_COST_PER_S`] per second; the floor does not
+    ///   push a coasting body.
     fn smoothest(
         &self,
         calm_g: &dyn Fn(usize, usize) -> Option<f64>,
         params: &ContactParams,
-    ) -> (Vec<Candidate>, Vec<DVec3>) {
+    ) -> (Vec<Candidate>, Vec<DVec3>, f64) {
         let n = self.standing.len();
         let candidates = self.candidates();
         let m = candidates.len();
         let coast = m - 1;
+        // Evidence held for one frame, and a velocity change within one,
+        // in units of COST_TIME_S.
+        let per_frame = self.dt / COST_TIME_S;
+        let per_change = COST_TIME_S / self.dt;
         let point_cost = |side: usize, point: usize, f: usize| -> f64 {
             let before = self.clearance_cm(side, point, f.saturating_sub(1));
             let after = self.clearance_cm(side, point, f);
@@ -430,7 +537,7 @@ impl Contacts<'_> {
             // low and equally smooth, as in a flat foot turning on the spot.
             let weight =
                 horizontal(self.soles[side].at(f, point) - self.com_from_hips[f]).length() / COM_PRIOR_CM;
-            c * c + shake * shake + weight * weight
+            (c * c + shake * shake + weight * weight) * per_frame
         };
         let own_cost = |candidate: Candidate, f: usize| -> f64 {
             match candidate {
@@ -446,7 +553,7 @@ impl Contacts<'_> {
                     let resting = (0..2)
                         .map(|side| calm_g(side, f).map_or(0.0, |off| (1.0 - 2.0 * off).max(0.0)))
                         .fold(0.0, f64::max);
-                    COAST_COST_PER_S * self.dt + (2.0 * resting).powi(2)
+                    COAST_COST_PER_S * self.dt + (2.0 * resting).powi(2) * per_frame
                 }
             }
         };
@@ -465,6 +572,13 @@ impl Contacts<'_> {
         let mut next_velocity = vec![DVec3::ZERO; m];
         for f in 1..n {
             let com_from_hips_velocity = self.com_from_hips_velocity(f);
+            // The floor's push between the velocity of frames f - 2 → f - 1
+            // and that of f - 1 → f, at frame f - 1: per cm of centre of mass
+            // ahead of the pressure point, this change of velocity (cm/s).
+            let pushed = f - 1;
+            let com = self.com_from_hips[pushed];
+            let com_height_cm = (self.standing[pushed] + com.y).max(MIN_COM_HEIGHT_CM);
+            let push_per_cm = STANDARD_GRAVITY_CM_PER_S2 / com_height_cm * self.dt;
             for (i, &candidate) in candidates.iter().enumerate() {
                 let own = own_cost(candidate, f);
                 if !own.is_finite() {
@@ -476,6 +590,13 @@ impl Contacts<'_> {
                 } else {
                     Some(self.hips_velocity(candidate, f) + com_from_hips_velocity)
                 };
+                // The push from the segment's start, and how it changes
+                // along the segment: `push + s along` for s in [0, 1].
+                let (push, along) = self
+                    .pressure_segment(candidate, pushed)
+                    .map_or((DVec3::ZERO, DVec3::ZERO), |(from, to)| {
+                        (horizontal(com - from) * push_per_cm, -horizontal(to - from) * push_per_cm)
+                    });
                 let (mut best, mut best_from) = (f64::INFINITY, coast);
                 for j in 0..m {
                     // A coasting stretch that has lasted its longest can
@@ -486,11 +607,19 @@ impl Contacts<'_> {
                     }
                     // Coasting keeps the velocity it comes in with; frame 0
                     // has no velocity to compare with.
-                    let change = match now {
-                        Some(v) if f > 1 => (v - com_velocity[j]).length() / slip,
+                    let unexplained = match now {
+                        Some(v) if f > 1 => {
+                            let r = horizontal(v - com_velocity[j]) - push;
+                            let s = if along.length_squared() > 0.0 {
+                                (-r.dot(along) / along.length_squared()).clamp(0.0, 1.0)
+                            } else {
+                                0.0
+                            };
+                            (r + s * along).length() / slip
+                        }
                         _ => 0.0,
                     };
-                    let total = cost[j] + change * change;
+                    let total = cost[j] + unexplained * unexplained * per_change;
                     if total < best {
                         (best, best_from) = (total, j);
                     }
@@ -505,6 +634,7 @@ impl Contacts<'_> {
             std::mem::swap(&mut com_velocity, &mut next_velocity);
         }
         let mut i = (0..m).min_by(|&a, &b| cost[a].total_cmp(&cost[b])).unwrap_or(coast);
+        let total_cost = cost[i];
         let mut chosen = vec![candidates[i]; n];
         for f in (1..n).rev() {
             chosen[f] = candidates[i];
@@ -517,7 +647,7 @@ impl Contacts<'_> {
                 c => self.hips_velocity(c, f),
             })
             .collect();
-        (chosen, hips_velocity)
+        (chosen, hips_velocity, total_cost)
     }
 }
 

@@ -2,13 +2,22 @@
 //! frame, including the heel, which no skeleton has as a joint.
 //!
 //! A foot on the floor rolls: it lands on the heel, stands flat, and pushes
-//! off over the ball and the toes. The point it rolls over does not move, so
-//! that is the point to pin. Skeletons give the ankle and the toes; the ankle
-//! never touches the floor, and pinning it while the foot rolls over the heel
-//! loses the few centimetres the ankle travels forward in every step (a walk
-//! comes out ~3% short). The heel sits at the sole's level below and a little
-//! behind the ankle, so we place a virtual heel point there, in the foot's own
-//! frame, and let it rock with the foot.
+//! off over the ball and the toes (gait analysis calls these the heel, ankle
+//! and forefoot rockers). The point it rolls over does not move, so that is
+//! the point to pin. Skeletons give joint centres, and a joint centre is not
+//! on the floor: the ankle is ~8 cm above it, the ball of the foot a few cm.
+//! Pinning a joint while the foot rolls around a point below it drags the
+//! body by that height times the angle rolled, every step (a walk comes out
+//! ~3% short with the ankle and toe joints pinned, ~2% with a heel added).
+//!
+//! So each sole point is the material point of the sole *below* a joint, in
+//! the frame of the foot's bone: the sole around a joint is a rocker centred
+//! on the joint, and a rocker rolling without slipping has its lowest
+//! material point momentarily still. The heel is such a point too, behind
+//! the ankle. How far the sole lies below the foot's lowest joint when it
+//! stands flat (`sole_depth_cm`) depends on the skeleton (a toe end site is on
+//! the skin, a ball-of-foot joint centre 2–3 cm above it) and on the shoes;
+//! [`crate::contact`] estimates it per recording.
 
 use glam::DVec3;
 
@@ -24,10 +33,14 @@ pub enum SolePart {
     /// The sole straight below the ankle, where a flat foot turning on the
     /// spot pivots.
     UnderAnkle,
-    /// A joint of the foot (the ankle when it is the only one, a toe joint, a
-    /// toe end site).
+    /// The sole below joint `j` of the foot (a toe joint or a toe end site);
+    /// in a foot without toes, the ankle joint itself.
     Joint(usize),
 }
+
+/// A bone shorter than this (cm) is a point, not a bone: exporters write
+/// zero-length toe end sites, which add nothing to the foot's shape.
+const MIN_BONE_CM: f64 = 1.0;
 
 /// How far the heel reaches behind the ankle, as a fraction of the ankle→toe
 /// distance on the floor. In an adult foot the back of the heel is ~6 cm
@@ -99,8 +112,16 @@ fn floor_offsets(points: &[DVec3], count: usize, frames: &[usize]) -> Vec<f64> {
 }
 
 /// The two soles `[left, right]` of a recording, with Y up. `feet` are the
-/// foot (ankle) joints; their descendants in `parents` are the toes.
-pub fn soles(poses: &Poses, parents: &[Option<usize>], feet: [usize; 2], hips: usize) -> [Sole; 2] {
+/// foot (ankle) joints; their descendants in `parents` are the toes. The sole
+/// lies `sole_depth_cm` below the foot's lowest joint when the foot stands
+/// flat (see the module documentation).
+pub fn soles(
+    poses: &Poses,
+    parents: &[Option<usize>],
+    feet: [usize; 2],
+    hips: usize,
+    sole_depth_cm: f64,
+) -> [Sole; 2] {
     let n = poses.frame_count();
     let joints = feet.map(|foot| foot_points(parents, foot));
     let from_hips = |f: usize, j: usize| poses.at(f, j) - poses.at(f, hips);
@@ -116,62 +137,124 @@ pub fn soles(poses: &Poses, parents: &[Option<usize>], feet: [usize; 2], hips: u
     let standing: [Vec<usize>; 2] =
         [0, 1].map(|side| (0..n).filter(|&f| lowest(side, f) <= lowest(1 - side, f)).collect());
     [0, 1].map(|side| {
-        let count = joints[side].len();
-        let offsets = floor_offsets(&joint_points[side], count, &standing[side]);
-        // The toe: the foot point farthest from the ankle.
-        let toe = (1..count).max_by(|&a, &b| {
-            let d = |k: usize| (joint_points[side][k] - joint_points[side][0]).length();
-            d(a).total_cmp(&d(b))
-        });
-        let Some(toe) =
-            toe.filter(|&k| n > 0 && (joint_points[side][k] - joint_points[side][0]).length() > 1.0)
-        else {
-            // A foot without toes (or whose toes coincide with the ankle):
-            // its joints are all there is to pin.
+        let foot = FootGeometry::new(&joints[side], parents, &joint_points[side], &standing[side]);
+        foot.sole(&joint_points[side], n, sole_depth_cm)
+    })
+}
+
+/// One foot's joints (the ankle first, as [`foot_points`] lists them), its
+/// bones, and how each joint stands above the floor when the foot is flat.
+struct FootGeometry<'a> {
+    joints: &'a [usize],
+    /// Per joint, the index within `joints` of its parent (`None` for the ankle).
+    parent: Vec<Option<usize>>,
+    /// The joints below the ankle that end a real bone, in order.
+    toes: Vec<usize>,
+    /// Per joint, its height above the foot's lowest joint when flat (cm).
+    offsets_cm: Vec<f64>,
+    /// The frames in which the foot stands (flat, mostly).
+    standing: &'a [usize],
+}
+
+/// A bone `from → to` of the foot, as indices into [`FootGeometry::joints`].
+type Bone = (usize, usize);
+
+impl<'a> FootGeometry<'a> {
+    fn new(joints: &'a [usize], parents: &[Option<usize>], points: &[DVec3], standing: &'a [usize]) -> Self {
+        let count = joints.len();
+        let parent: Vec<Option<usize>> = joints
+            .iter()
+            .map(|&j| parents.get(j).copied().flatten().and_then(|p| joints.iter().position(|&x| x == p)))
+            .collect();
+        let length = |k: usize, from: usize| {
+            median(
+                &standing
+                    .iter()
+                    .map(|&f| (points[f * count + k] - points[f * count + from]).length())
+                    .collect::<Vec<_>>(),
+            )
+        };
+        let toes =
+            (1..count).filter(|&k| parent[k].is_some_and(|from| length(k, from) >= MIN_BONE_CM)).collect();
+        let offsets_cm = floor_offsets(points, count, standing);
+        FootGeometry { joints, parent, toes, offsets_cm, standing }
+    }
+
+    /// The bone whose sole lies under joint `k`: the bone starting at `k` when
+    /// there is one (a ball-of-foot joint with its toes), else the bone ending
+    /// at `k` (a toe end site, or a toe joint whose end site has no length).
+    fn bone_under(&self, k: usize) -> Option<Bone> {
+        let starting = self.toes.iter().find(|&&c| self.parent[c] == Some(k)).map(|&c| (k, c));
+        starting.or_else(|| self.parent[k].filter(|_| self.toes.contains(&k)).map(|from| (from, k)))
+    }
+
+    /// The foot's sole, `sole_depth_cm` below its lowest joint when flat.
+    fn sole(&self, points: &[DVec3], n: usize, sole_depth_cm: f64) -> Sole {
+        let count = self.joints.len();
+        let p = |f: usize, k: usize| points[f * count + k];
+        // The foot's long axis: from the ankle to the toe joint farthest from it.
+        let far = |k: usize| {
+            median(&self.standing.iter().map(|&f| (p(f, k) - p(f, 0)).length()).collect::<Vec<_>>())
+        };
+        let Some(&toe) = self.toes.iter().max_by(|&&a, &&b| far(a).total_cmp(&far(b))) else {
+            // A foot without toes: its ankle is all there is to pin.
             return Sole {
-                parts: joints[side].iter().map(|&j| SolePart::Joint(j)).collect(),
-                points_from_hips_cm: joint_points[side].clone(),
-                floor_offsets_cm: offsets,
+                parts: vec![SolePart::Joint(self.joints[0])],
+                points_from_hips_cm: (0..n).map(|f| p(f, 0)).collect(),
+                floor_offsets_cm: vec![0.0],
             };
         };
-        let ankle_to_toe = |f: usize| joint_points[side][f * count + toe] - joint_points[side][f * count];
-        // The ankle→toe line dips toward the toe in a flat foot; its median
-        // dip while standing tells where "flat" is for this skeleton.
-        // Trigonometry through `libm`, so the CLI and the wasm app compute
-        // bit-identical results.
+        let mut bones: Vec<Bone> = vec![(0, toe)];
+        let under: Vec<usize> = self
+            .toes
+            .iter()
+            .map(|&k| {
+                let bone = self.bone_under(k).unwrap_or((0, toe));
+                bones.iter().position(|&b| b == bone).unwrap_or_else(|| {
+                    bones.push(bone);
+                    bones.len() - 1
+                })
+            })
+            .collect();
+        // Each bone dips toward its end in a flat foot; its median dip while
+        // standing tells where "flat" is for this skeleton. Trigonometry
+        // through `libm`, so the CLI and the wasm app compute bit-identical
+        // results.
         let dip = |v: DVec3| libm::asin((-v.y / v.length()).clamp(-1.0, 1.0));
-        let flat_dip = median(&standing[side].iter().map(|&f| dip(ankle_to_toe(f))).collect::<Vec<_>>());
-        let toe_distance =
-            median(&standing[side].iter().map(|&f| ankle_to_toe(f).length()).collect::<Vec<_>>());
-        let heel_behind_cm = HEEL_BEHIND_ANKLE * toe_distance * libm::cos(flat_dip);
-        // The sole's level is the foot's lowest point when flat, so the
-        // ankle's floor offset is its height above the sole.
-        let ankle_height_cm = offsets[0];
-        // Per frame: the heel, in the frame of the sole (forward along the
-        // sole, down perpendicular to it), then the toe joints; the ankle
-        // itself never touches the floor.
-        let mut heading = DVec3::Z;
-        let mut points = Vec::with_capacity(n * (count + 1));
+        let flat_dips: Vec<f64> = bones
+            .iter()
+            .map(|&(a, b)| median(&self.standing.iter().map(|&f| dip(p(f, b) - p(f, a))).collect::<Vec<_>>()))
+            .collect();
+        let heel_behind_cm = HEEL_BEHIND_ANKLE * far(toe) * libm::cos(flat_dips[0]);
+        let mut headings = vec![DVec3::Z; bones.len()];
+        let mut sole_points = Vec::with_capacity(n * (self.toes.len() + 2));
+        let mut axes = vec![(DVec3::Z, -DVec3::Y); bones.len()];
         for f in 0..n {
-            let v = ankle_to_toe(f);
-            let flat = v.with_y(0.0);
-            if flat.length() > 1e-6 * v.length() {
-                heading = flat.normalize();
+            // Per bone: forward along the sole and down, perpendicular to it.
+            for (i, &(a, b)) in bones.iter().enumerate() {
+                let v = p(f, b) - p(f, a);
+                let flat = v.with_y(0.0);
+                if flat.length() > 1e-6 * v.length() {
+                    headings[i] = flat.normalize();
+                }
+                let tilt = dip(v) - flat_dips[i];
+                axes[i] = (
+                    headings[i] * libm::cos(tilt) - DVec3::Y * libm::sin(tilt),
+                    -headings[i] * libm::sin(tilt) - DVec3::Y * libm::cos(tilt),
+                );
             }
-            let sole_dip = dip(v) - flat_dip;
-            let forward = heading * libm::cos(sole_dip) - DVec3::Y * libm::sin(sole_dip);
-            let down = -heading * libm::sin(sole_dip) - DVec3::Y * libm::cos(sole_dip);
-            let ankle = joint_points[side][f * count];
-            let under_ankle = ankle + down * ankle_height_cm;
-            points.push(under_ankle - forward * heel_behind_cm);
-            points.push(under_ankle);
-            points.extend_from_slice(&joint_points[side][f * count + 1..(f + 1) * count]);
+            let below = |k: usize, down: DVec3| p(f, k) + down * (self.offsets_cm[k] + sole_depth_cm);
+            let (forward, down) = axes[0];
+            let under_ankle = below(0, down);
+            sole_points.push(under_ankle - forward * heel_behind_cm);
+            sole_points.push(under_ankle);
+            sole_points.extend(self.toes.iter().zip(&under).map(|(&k, &bone)| below(k, axes[bone].1)));
         }
         let mut parts = vec![SolePart::Heel, SolePart::UnderAnkle];
-        parts.extend(joints[side][1..].iter().map(|&j| SolePart::Joint(j)));
-        let floor_offsets_cm = floor_offsets(&points, parts.len(), &standing[side]);
-        Sole { parts, points_from_hips_cm: points, floor_offsets_cm }
-    })
+        parts.extend(self.toes.iter().map(|&k| SolePart::Joint(self.joints[k])));
+        let floor_offsets_cm = floor_offsets(&sole_points, parts.len(), self.standing);
+        Sole { parts, points_from_hips_cm: sole_points, floor_offsets_cm }
+    }
 }
 
 #[cfg(test)]
@@ -213,7 +296,7 @@ mod tests {
         // toes up 20°, rotating about the heel.
         let n = 100;
         let poses = standing(n, |f| if f >= 90 { 20f64.to_radians() } else { 0.0 });
-        let [left, right] = soles(&poses, &PARENTS, [1, 3], 0);
+        let [left, right] = soles(&poses, &PARENTS, [1, 3], 0, 0.0);
         assert_eq!(left.parts, vec![SolePart::Heel, SolePart::UnderAnkle, SolePart::Joint(2)]);
         let hips = DVec3::new(0.0, 90.0, 0.0);
         // Flat: the heel sits at the toe's level, 0.4 of the way back.
@@ -229,11 +312,64 @@ mod tests {
         assert!(left.height_above_flat_cm(95, 2) - left.height_above_flat_cm(0, 2) > 6.0);
     }
 
+    /// A left foot standing on the ball of a rocker: its toe joint is
+    /// `depth` cm above the floor, and in frame `f` the foot has rolled
+    /// forward by `roll(f)` radians (heel rising) on a circle of that radius
+    /// about the toe joint, without slipping, as a forefoot rolls. A zero-length
+    /// end site hangs under the toe joint (exporters write them). The hips
+    /// stay put.
+    fn rolling_on_the_ball(depth: f64, roll: impl Fn(usize) -> f64, n: usize) -> Poses {
+        let mut positions_cm = Vec::new();
+        for f in 0..n {
+            let a = roll(f);
+            // The toe joint rolls forward by depth · a; the foot pitches
+            // heel-up about it.
+            let toe = DVec3::new(-10.0, depth, 14.0 + depth * a);
+            let ankle_from_toe = DVec3::new(0.0, 6.0, -14.0);
+            let pitched = DVec3::new(
+                0.0,
+                ankle_from_toe.y * a.cos() - ankle_from_toe.z * a.sin(),
+                ankle_from_toe.y * a.sin() + ankle_from_toe.z * a.cos(),
+            );
+            positions_cm.extend([
+                DVec3::new(0.0, 90.0, 0.0),
+                toe + pitched,
+                toe,
+                toe,
+                DVec3::new(10.0, 40.0, 0.0),
+                DVec3::new(10.0, 34.0, 14.0),
+            ]);
+        }
+        Poses { joint_count: 6, positions_cm }
+    }
+
+    #[test]
+    fn the_sole_under_a_rolling_joint_stays_put_at_the_right_depth() {
+        // Hips (0); left ankle (1), toe (2), zero-length end site (3); right
+        // ankle (4) and toe (5), lifted.
+        let parents = [None, Some(0), Some(1), Some(2), Some(0), Some(4)];
+        let n = 100;
+        let roll = |f: usize| if f < 70 { 0.0 } else { (f - 70) as f64 * 0.01 };
+        let poses = rolling_on_the_ball(4.0, roll, n);
+        let under_toe = |depth: f64| {
+            let [left, _] = soles(&poses, &parents, [1, 4], 0, depth);
+            // The zero-length end site adds no point of its own.
+            assert_eq!(left.parts, vec![SolePart::Heel, SolePart::UnderAnkle, SolePart::Joint(2)]);
+            // How far the point moves over each frame of the roll, summed.
+            (71..n).map(|f| (left.at(f, 2) - left.at(f - 1, 2)).with_y(0.0).length()).sum::<f64>()
+        };
+        // Rolled 0.29 rad: the toe joint itself travels 4 · 0.29 = 1.16 cm;
+        // the sole under it, a material point of the rocker, only along the
+        // cycloid, 4 (0.29 - sin 0.29) = 0.016 cm.
+        assert!((under_toe(0.0) - 4.0 * 0.29).abs() < 1e-9, "{}", under_toe(0.0));
+        assert!((under_toe(4.0) - 4.0 * (0.29 - 0.29f64.sin())).abs() < 1e-6, "{}", under_toe(4.0));
+    }
+
     #[test]
     fn a_foot_without_toes_pins_its_ankle() {
         let poses =
             Poses { joint_count: 3, positions_cm: vec![DVec3::new(0.0, 90.0, 0.0), DVec3::X, -DVec3::X] };
-        let [left, _] = soles(&poses, &[None, Some(0), Some(0)], [1, 2], 0);
+        let [left, _] = soles(&poses, &[None, Some(0), Some(0)], [1, 2], 0, 0.0);
         assert_eq!(left.parts, vec![SolePart::Joint(1)]);
         assert_eq!(left.at(0, 0), DVec3::new(1.0, -90.0, 0.0));
     }

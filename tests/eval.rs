@@ -52,27 +52,20 @@ fn runs_and_dashes_stay_within_five_percent() {
     }
 }
 
+/// Skating is measured on the joints the truth holds still, whose own
+/// tracking jitter (1-2 cm/s at 30 fps) is the floor under any estimate's
+/// figure: over the files, the median excess over that floor.
 #[test]
-fn feet_on_the_floor_hardly_skate() {
+fn feet_planted_in_the_truth_skate_no_more_than_its_jitter() {
     let Some(all) = evaluate_all() else { return };
-    let mut skating: Vec<f64> = all.iter().map(|(_, _, c)| c.skating_cm_per_s).collect();
-    skating.sort_by(f64::total_cmp);
-    let median = skating[skating.len() / 2];
-    assert!(median <= 0.5, "median skating {median} cm/s: {skating:?}");
-}
-
-/// A guard at today's level, not the goal (see the ignored test below).
-#[test]
-fn walks_stay_within_two_percent() {
-    let Some(all) = evaluate_all() else { return };
-    for (name, _, contact) in all.iter().filter(|(name, ..)| name.contains("walk")) {
-        assert!(contact.mean_error_pct <= 2.0, "{name}: {contact:?}");
-        assert!((0.95..=1.05).contains(&contact.path_ratio), "{name}: {contact:?}");
-    }
+    let mut excess: Vec<f64> =
+        all.iter().map(|(_, _, c)| c.skating_cm_per_s - c.truth_skating_cm_per_s).collect();
+    excess.sort_by(f64::total_cmp);
+    let median = excess[excess.len() / 2];
+    assert!(median <= 0.5, "median skating above the truth's jitter {median} cm/s: {excess:?}");
 }
 
 #[test]
-#[ignore = "issue 4 acceptance not met yet: walks are at ~1.55% mean, ~3.2% final, path ratio ~0.968"]
 fn walks_meet_the_acceptance_figures() {
     let Some(all) = evaluate_all() else { return };
     for (name, _, contact) in all.iter().filter(|(name, ..)| name.contains("walk")) {

@@ -89,6 +89,11 @@ struct TranslateArgs {
     /// Paper method: minimum smoothed foot height difference (cm) for pass 2 to pin the lower foot.
     #[arg(long, default_value_t = PaperParams::default().dy_eps_cm)]
     dy_eps: f64,
+    /// Contact method: how far (cm) the sole lies below the foot's lowest
+    /// joint when the foot stands flat (0 when that joint is a toe end site on
+    /// the skin). Estimated from the recording when not given.
+    #[arg(long)]
+    sole_depth_cm: Option<f64>,
     /// Frame rate for files that do not state one.
     #[arg(long)]
     fps: Option<f64>,
@@ -147,8 +152,14 @@ fn run_eval(inputs: &[PathBuf], closure: &[PathBuf]) -> ExitCode {
     let mut rows: Vec<(String, [Accuracy; 2])> = Vec::new();
     println!("ground truth: translation frozen root→hips, re-estimated, compared with the truth");
     println!(
-        "{:<36} {:>8} | {:>17} | {:>17} | {:>13} | {:>13} | {:>13}",
-        "file", "path m", "mean err % p/c", "final err % p/c", "ratio p/c", "skate cm/s", "vert cm p/c"
+        "{:<36} {:>8} | {:>17} | {:>17} | {:>13} | {:>20} | {:>13}",
+        "file",
+        "path m",
+        "mean err % p/c",
+        "final err % p/c",
+        "ratio p/c",
+        "skate cm/s p/c truth",
+        "vert cm p/c"
     );
     for path in expand(inputs) {
         let name = path.file_name().map_or(path.display().to_string(), |n| n.to_string_lossy().into_owned());
@@ -165,7 +176,7 @@ fn run_eval(inputs: &[PathBuf], closure: &[PathBuf]) -> ExitCode {
         match result {
             Ok([p, c]) => {
                 println!(
-                    "{:<36} {:>8.2} | {:>8.2} {:>8.2} | {:>8.2} {:>8.2} | {:>6.3} {:>6.3} | {:>6.2} {:>6.2} | {:>6.1} {:>6.1}",
+                    "{:<36} {:>8.2} | {:>8.2} {:>8.2} | {:>8.2} {:>8.2} | {:>6.3} {:>6.3} | {:>6.2} {:>6.2} {:>6.2} | {:>6.1} {:>6.1}",
                     name,
                     c.true_path_cm / 100.0,
                     p.mean_error_pct,
@@ -176,6 +187,7 @@ fn run_eval(inputs: &[PathBuf], closure: &[PathBuf]) -> ExitCode {
                     c.path_ratio,
                     p.skating_cm_per_s,
                     c.skating_cm_per_s,
+                    c.truth_skating_cm_per_s,
                     p.vertical_error_cm,
                     c.vertical_error_cm
                 );
@@ -201,7 +213,7 @@ fn run_eval(inputs: &[PathBuf], closure: &[PathBuf]) -> ExitCode {
             median(&mut v)
         };
         println!(
-            "{:<36} {:>8} | {:>8.2} {:>8.2} | {:>8.2} {:>8.2} | {:>6.3} {:>6.3} | {:>6.2} {:>6.2} | {:>6.1} {:>6.1}",
+            "{:<36} {:>8} | {:>8.2} {:>8.2} | {:>8.2} {:>8.2} | {:>6.3} {:>6.3} | {:>6.2} {:>6.2} {:>6.2} | {:>6.1} {:>6.1}",
             label,
             selected.len(),
             col(0, |a| a.mean_error_pct, true),
@@ -212,6 +224,7 @@ fn run_eval(inputs: &[PathBuf], closure: &[PathBuf]) -> ExitCode {
             col(1, |a| a.path_ratio, true),
             col(0, |a| a.skating_cm_per_s, false),
             col(1, |a| a.skating_cm_per_s, false),
+            col(1, |a| a.truth_skating_cm_per_s, false),
             col(0, |a| a.vertical_error_cm, false),
             col(1, |a| a.vertical_error_cm, false)
         );
@@ -335,7 +348,13 @@ fn run_translate(args: &TranslateArgs) -> ExitCode {
         return ExitCode::FAILURE;
     }
     let method = match args.method {
-        MethodArg::Contact => Method::Contact(ContactParams::default()),
+        MethodArg::Contact => {
+            if let Some(depth) = args.sole_depth_cm.filter(|d| !(d.is_finite() && (0.0..=20.0).contains(d))) {
+                eprintln!("error: --sole-depth-cm must be between 0 and 20 cm, not {depth}");
+                return ExitCode::from(2);
+            }
+            Method::Contact(ContactParams { sole_depth_cm: args.sole_depth_cm, ..ContactParams::default() })
+        }
         MethodArg::Paper => Method::Paper(PaperParams {
             window_s: args.window_s,
             dy_eps_cm: args.dy_eps,
@@ -409,10 +428,11 @@ fn describe(recording: &Recording, t: &Translated) -> String {
         Decisions::Contact(c) => {
             let count = |want: fn(&Support) -> bool| c.support.iter().filter(|s| want(s)).count();
             format!(
-                "method contact: one foot down in {:.0}%, both in {:.0}%, flight in {:.0}% of frames",
+                "method contact: one foot down in {:.0}%, both in {:.0}%, flight in {:.0}% of frames, sole {} cm below the lowest foot joint",
                 percent(count(|s| matches!(s, Support::Single(_)))),
                 percent(count(|s| matches!(s, Support::Double))),
-                percent(count(|s| matches!(s, Support::Flight)))
+                percent(count(|s| matches!(s, Support::Flight))),
+                c.sole_depth_cm
             )
         }
     };
