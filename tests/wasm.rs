@@ -54,7 +54,7 @@ fn bad_input_keeps_the_open_recording() {
     assert_eq!(player.frame_count(), frames);
     assert_eq!(player.frame(), 42);
     assert_eq!(player.name(), embusen::demo::DEMO_NAME);
-    assert!(player.set_settings("paper", "clean", 1.0, 5.0, "NoSuchJoint", "").is_err());
+    assert!(player.set_settings("paper", "clean", 1.0, 5.0, "NoSuchJoint", "", None).is_err());
     assert_eq!(player.feet(), ["LeftFoot", "RightFoot"]);
 }
 
@@ -63,10 +63,10 @@ fn settings_recompute_and_exports_match_the_core() {
     let mut player = player();
     assert_eq!(player.method(), "contact", "contact is the default");
     let contact = player.export_hips_csv();
-    player.set_settings("paper", "faithful", 1.0, 5.0, "", "").unwrap();
+    player.set_settings("paper", "faithful", 1.0, 5.0, "", "", None).unwrap();
     let faithful = player.export_hips_csv();
     assert_ne!(contact[1], faithful[1]);
-    player.set_settings("paper", "clean", 0.5, 3.0, "", "").unwrap();
+    player.set_settings("paper", "clean", 0.5, 3.0, "", "", None).unwrap();
     let clean = player.export_hips_csv();
     assert_eq!(clean[0], "recording.hips.csv");
     assert_ne!(faithful[1], clean[1]);

@@ -22,6 +22,9 @@ const FULL_CONTROLS = `
   <label class="paper-only">smoothing <select data-setting="smoothing"><option value="faithful">faithful (R)</option><option value="clean">clean</option></select></label>
   <label class="paper-only">window <input data-setting="window" type="number" min="0.05" max="10" step="0.05" value="1"> s</label>
   <label class="paper-only">dyEps <input data-setting="dyeps" type="number" min="0" max="100" step="0.5" value="5"> cm</label>
+  <label class="contact-only" title="how far the sole lies below the foot's lowest joint when the foot stands flat">sole <select data-setting="sole">
+    <option value="auto">auto</option><option>0</option><option>1</option><option>2</option><option>3</option>
+    <option>4</option><option>5</option><option>6</option></select> cm below the joints</label>
   <label>left foot <select data-setting="left"></select></label>
   <label>right foot <select data-setting="right"></select></label>
   <span class="sep"></span>
@@ -39,6 +42,12 @@ const PLAYBACK_CONTROLS = `
   <label><input type="checkbox" data-action="follow"> follow</label>
   <label>original <select data-action="ghost"><option value="overlay">overlay</option>
     <option value="side">side by side</option><option value="hidden">hidden</option></select></label>`;
+
+/** The info panel's row for the contact method's sole depth, `[depth, estimated]`. */
+function soleRow([depth, estimated]) {
+  if (depth === undefined) return [];
+  return [["sole", `${depth} cm below the lowest foot joint${estimated ? " (estimated)" : ""}`]];
+}
 
 /**
  * Mounts a player into `element`. Options: `src`, `accel` (URLs), `autoplay`,
@@ -93,6 +102,7 @@ export async function mount(element, options = {}) {
         ["duration", `${(frames / fps).toFixed(2)} s`],
         ["feet", player.feet().join(" / ")],
         ["method", player.method()],
+        ...soleRow(player.sole_depth()),
         ["accelerations", player.accel_source()],
       ];
       info.replaceChildren(
@@ -196,6 +206,7 @@ export async function mount(element, options = {}) {
           +$("[data-setting=dyeps]").value,
           $("[data-setting=left]").value,
           $("[data-setting=right]").value,
+          $("[data-setting=sole]").value === "auto" ? undefined : +$("[data-setting=sole]").value,
         );
         showError("");
         refreshInfo();

@@ -158,7 +158,9 @@ impl Player {
     /// Changes the method settings and recomputes; on error nothing changes.
     /// `method` is "contact" or "paper"; `smoothing` ("faithful" or "clean"),
     /// `window_s` and `dy_eps_cm` are the paper method's; empty foot names
-    /// mean "detect".
+    /// mean "detect"; `sole_depth_cm` is the contact method's, `undefined`
+    /// to estimate it.
+    #[allow(clippy::too_many_arguments)]
     pub fn set_settings(
         &mut self,
         method: &str,
@@ -167,6 +169,7 @@ impl Player {
         dy_eps_cm: f64,
         left_foot: &str,
         right_foot: &str,
+        sole_depth_cm: Option<f64>,
     ) -> Result<(), JsError> {
         let Some(session) = &mut self.session else { return Err(js_error("no recording is open")) };
         let mut settings = session.settings.clone();
@@ -182,6 +185,10 @@ impl Player {
         };
         settings.paper.window_s = window_s;
         settings.paper.dy_eps_cm = dy_eps_cm;
+        if let Some(depth) = sole_depth_cm.filter(|d| !(d.is_finite() && (0.0..=20.0).contains(d))) {
+            return Err(js_error(format!("the sole depth must be between 0 and 20 cm, not {depth}")));
+        }
+        settings.contact.sole_depth_cm = sole_depth_cm;
         let name = |s: &str| (!s.is_empty()).then(|| s.to_string());
         settings.feet = FeetChoice { left: name(left_foot), right: name(right_foot) };
         session.set_settings(settings).map_err(js_error)?;
@@ -377,6 +384,15 @@ impl Player {
     /// The method in use: "contact" or "paper".
     pub fn method(&self) -> String {
         self.session.as_ref().map_or(String::new(), |s| s.settings.method().name().to_string())
+    }
+
+    /// The contact method's sole depth (cm below the lowest foot joint) and
+    /// whether it was estimated: `[depth, 1]` estimated, `[depth, 0]` as set;
+    /// empty for the paper method.
+    pub fn sole_depth(&self) -> Vec<f64> {
+        let Some(s) = &self.session else { return Vec::new() };
+        let estimated = s.settings.contact.sole_depth_cm.is_none();
+        s.translated.contact().map_or(Vec::new(), |c| vec![c.sole_depth_cm, f64::from(u8::from(estimated))])
     }
 
     /// Where the foot accelerations came from.

@@ -321,12 +321,24 @@ impl Scene {
         parents: &[Option<usize>],
         offset: Vec3,
     ) -> (Vec<Mat4>, Vec<Mat4>) {
-        let joints = points.iter().map(|p| ball(*p + offset, JOINT_RADIUS_M)).collect();
+        // The joints above the hips are not the body: optical exporters put a
+        // static root on the floor under the start (Bandai's `joint_Root`),
+        // and a bone from it would be a line across the room.
+        let mut above_hips = vec![false; points.len()];
+        let mut joint = parents.get(self.hips).copied().flatten();
+        while let Some(j) = joint.filter(|&j| j < above_hips.len() && !above_hips[j]) {
+            above_hips[j] = true;
+            joint = parents.get(j).copied().flatten();
+        }
+        let joints = (0..points.len())
+            .filter(|&j| !above_hips[j])
+            .map(|j| ball(points[j] + offset, JOINT_RADIUS_M))
+            .collect();
         let bones = parents
             .iter()
             .enumerate()
             .filter_map(|(j, parent)| {
-                let p = (*parent)?;
+                let p = (*parent).filter(|&p| !above_hips[p] && !above_hips[j])?;
                 Some(segment(points[p] + offset, points[j] + offset, BONE_RADIUS_M))
             })
             .collect();

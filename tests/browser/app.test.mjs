@@ -116,21 +116,29 @@ test("heian_nidan.bvh opens through the file input and exports what the CLI writ
   const info = await page.textContent("#app .info");
   assert.match(info, /2689/);
   assert.match(info, /kinematics/);
+  assert.match(info, /sole \d cm below the lowest foot joint \(estimated\)/);
   await page.evaluate(() => document.querySelector("#app").embusen.player.draw());
   assert.ok((await countDrawnPixels(page, "#app canvas.view")) > 500);
   // Export with non-default settings, and compare with the CLI's output for the same.
+  const dir = mkdtempSync(join(tmpdir(), "embusen-"));
+  const exportMatchesCli = async (name, cliArgs) => {
+    const [download] = await Promise.all([page.waitForEvent("download"), page.click("#app [data-action=export-recording]")]);
+    assert.equal(download.suggestedFilename(), "heian_nidan.embusen.bvh");
+    const exported = readFileSync(await download.path(), "utf8");
+    const cliOut = join(dir, `${name}.bvh`);
+    execFileSync(join(ROOT, "target/release/embusen"), ["translate", file, ...cliArgs, "-o", cliOut]);
+    if (exported !== readFileSync(cliOut, "utf8")) writeFileSync(join(SCREENSHOTS, `exported-${name}.bvh`), exported);
+    assert.ok(exported === readFileSync(cliOut, "utf8"), `the exported BVH equals \`embusen translate ${cliArgs.join(" ")}\`'s (diff ${cliOut} ${SCREENSHOTS}/exported-${name}.bvh)`);
+  };
+  await page.selectOption("#app [data-setting=sole]", "2");
+  assert.match(await page.textContent("#app .info"), /sole 2 cm below the lowest foot joint(?! \(estimated)/);
+  await exportMatchesCli("contact", ["--sole-depth-cm", "2"]);
   await page.selectOption("#app [data-setting=method]", "paper");
   await page.selectOption("#app [data-setting=smoothing]", "clean");
   await page.fill("#app [data-setting=dyeps]", "4");
   await page.dispatchEvent("#app [data-setting=dyeps]", "change");
-  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#app [data-action=export-recording]")]);
-  assert.equal(download.suggestedFilename(), "heian_nidan.embusen.bvh");
-  const exported = readFileSync(await download.path(), "utf8");
-  const dir = mkdtempSync(join(tmpdir(), "embusen-"));
-  const cliOut = join(dir, "cli.bvh");
-  execFileSync(join(ROOT, "target/release/embusen"), ["translate", file, "--method", "paper", "--smoothing", "clean", "--dy-eps", "4", "-o", cliOut]);
-  if (exported !== readFileSync(cliOut, "utf8")) writeFileSync(join(SCREENSHOTS, "exported.bvh"), exported);
-  assert.ok(exported === readFileSync(cliOut, "utf8"), `the exported BVH equals \`embusen translate\`'s (diff ${cliOut} ${SCREENSHOTS}/exported.bvh)`);
+  assert.doesNotMatch(await page.textContent("#app .info"), /sole/);
+  await exportMatchesCli("paper", ["--method", "paper", "--smoothing", "clean", "--dy-eps", "4"]);
   const [hips] = await Promise.all([page.waitForEvent("download"), page.click("#app [data-action=export-hips]")]);
   assert.equal(hips.suggestedFilename(), "heian_nidan.hips.csv");
   await page.screenshot({ path: join(SCREENSHOTS, "heian_nidan.png") });
