@@ -1,11 +1,12 @@
-//! `cargo bench`: throughput of the readers and speed of the paper method on
-//! the shared karate recordings. Prints figures; asserts nothing (speed goals
+//! `cargo bench`: throughput of the readers and speed of both translation
+//! methods on the shared karate recordings. Prints figures; asserts nothing (speed goals
 //! are read off this output, not enforced by timed tests).
 
 use std::path::Path;
 use std::time::{Duration, Instant};
 
 use embusen::bvh::{Bvh, ReadOptions};
+use embusen::contact::ContactParams;
 use embusen::kinematics::forward_kinematics;
 use embusen::paper::PaperParams;
 use embusen::recording::{FeetChoice, Recording};
@@ -81,4 +82,20 @@ fn main() {
         t.as_secs_f64() * 1e3,
         recording.frame_count() as f64 / t.as_secs_f64()
     );
+
+    // The contact method estimates the sole depth by solving once per
+    // candidate depth; with the depth given it solves once.
+    let paper_t = t;
+    for (label, sole_depth_cm) in [("estimated sole", None), ("sole given", Some(2.0))] {
+        let params = ContactParams { sole_depth_cm, ..ContactParams::default() };
+        let t = median_time(|| {
+            std::hint::black_box(recording.translate_contact(&feet, &params).expect("runs"));
+        });
+        println!(
+            "contact method heian_shodan.csv ({label}): {:7.3} ms  {:9.0} frames/s  ({:.1}x the paper method)",
+            t.as_secs_f64() * 1e3,
+            recording.frame_count() as f64 / t.as_secs_f64(),
+            t.as_secs_f64() / paper_t.as_secs_f64()
+        );
+    }
 }
