@@ -109,6 +109,15 @@ const JITTER_S: f64 = 0.03;
 /// a body's length, so that it never outweighs the evidence of motion.
 const COM_PRIOR_CM: f64 = 100.0;
 
+/// A flight needs a body on the floor rising into it, or falling out of it,
+/// faster than this (cm/s) over the last (first) [`BALLISTIC_EVIDENCE_S`] on
+/// the floor: a hop of one centimetre leaves the floor at 44 cm/s, and a
+/// body standing in a stance bobs far slower. (Measured: the ground-truth
+/// run's take-offs rise at 34-65 cm/s; Heian Shodan's turns, which coast
+/// but never leave the floor, at -29 to +3 cm/s.)
+const MIN_TAKEOFF_CM_PER_S: f64 = 20.0;
+const BALLISTIC_EVIDENCE_S: f64 = 0.05;
+
 /// A centre of mass lower than this above the floor (cm) is taken to be this
 /// high when reckoning the floor's push: a body crouched or lying down is not
 /// an inverted pendulum, and the push would grow without bound.
@@ -225,7 +234,15 @@ pub fn contact_translation(
         let above = |f: usize| arc(f) - com_from_hips[f].y - standing[f];
         let lifts =
             (start..end).all(|f| above(f) >= 0.0) && (start..end).any(|f| above(f) > params.flight_margin_cm);
-        if lifts {
+        // And a body leaves the floor because the floor threw it up: it was
+        // rising in its last moments on the floor, or falls into the landing.
+        // (A kata's turn coasts too, on a level body, and is no flight.)
+        let span = ((BALLISTIC_EVIDENCE_S / dt).round() as usize).max(1);
+        let rising =
+            a >= span && com_height(a) - com_height(a - span) > MIN_TAKEOFF_CM_PER_S * span as f64 * dt;
+        let falling =
+            b + span < n && com_height(b) - com_height(b + span) > MIN_TAKEOFF_CM_PER_S * span as f64 * dt;
+        if lifts && (rising || falling) {
             for f in start..end {
                 height[f] = (arc(f) - com_from_hips[f].y).max(standing[f]);
                 flight[f] = true;
@@ -667,10 +684,13 @@ mod tests {
     const FPS: f64 = 30.0;
 
     /// A run along +Z at `speed` cm/s: 0.2 s on one foot (planted flat, the
-    /// ankle 8 cm up and the toe 2 cm up), then 0.15 s in the air with both
-    /// feet 30 cm up and the hips on gravity's arc, then the other foot.
+    /// ankle 8 cm up and the toe 2 cm up, the hips dipping on the bent leg
+    /// and thrown up again), then 0.15 s in the air with both feet 30 cm up
+    /// and the hips on gravity's arc, then the other foot.
     /// Returns the poses and, per frame, whether the body is in the air.
-    fn run(frames: usize, speed: f64) -> (Poses, Vec<bool>) {
+    /// Without `pushed`, the hips glide level through the stance instead:
+    /// no floor threw them up.
+    fn run(frames: usize, speed: f64, pushed: bool) -> (Poses, Vec<bool>) {
         let (stance, flight) = (0.2, 0.15);
         let period = stance + flight;
         let g = STANDARD_GRAVITY_CM_PER_S2;
@@ -681,7 +701,14 @@ mod tests {
             let step = (t / period).floor();
             let in_step = t - step * period;
             let in_air = in_step >= stance;
-            let hips_y = if in_air { 90.0 + 0.5 * g * (in_step - stance) * (period - in_step) } else { 90.0 };
+            // The stance's dip, half a sine, lands and takes off at the
+            // flight's vertical speed g · flight / 2.
+            let dip = if pushed { g * flight / 2.0 * stance / std::f64::consts::PI } else { 0.0 };
+            let hips_y = if in_air {
+                90.0 + 0.5 * g * (in_step - stance) * (period - in_step)
+            } else {
+                90.0 - dip * (std::f64::consts::PI * in_step / stance).sin()
+            };
             let hips = DVec3::new(0.0, hips_y, speed * t);
             let stance_side = (step as usize) % 2; // 0 left, 1 right
             let plant_z = speed * (step * period + stance / 2.0);
@@ -706,7 +733,7 @@ mod tests {
         // Within 2%: this synthetic body does not conserve momentum (a foot
         // leaving the floor jumps to its place in the air, which changes the
         // centre of mass's velocity by ~1.5% at every take-off).
-        let (poses, airborne) = run(53, 300.0);
+        let (poses, airborne) = run(53, 300.0, true);
         let result =
             contact_translation(&poses, &PARENTS, FEET, 0, None, FPS, &ContactParams::default()).unwrap();
         let moved = poses.shifted(&result.shift_cm);
@@ -733,8 +760,20 @@ mod tests {
     }
 
     #[test]
+    fn a_body_that_nothing_threw_up_is_not_in_flight() {
+        // The same strides with the hips level: the body coasts between the
+        // feet (as in a kata's turn, where no foot holds still), but it was
+        // not rising when it left the floor nor falling into the landing.
+        let (poses, airborne) = run(53, 300.0, false);
+        assert!(airborne.iter().any(|&a| a));
+        let result =
+            contact_translation(&poses, &PARENTS, FEET, 0, None, FPS, &ContactParams::default()).unwrap();
+        assert!(result.support.iter().all(|s| *s != Support::Flight), "{:?}", result.support);
+    }
+
+    #[test]
     fn a_body_standing_still_stays_where_it_is() {
-        let (mut poses, _) = run(1, 0.0);
+        let (mut poses, _) = run(1, 0.0, true);
         let frame = poses.positions_cm.clone();
         for _ in 0..99 {
             poses.positions_cm.extend_from_slice(&frame);
@@ -752,7 +791,7 @@ mod tests {
         assert!(
             contact_translation(&empty, &PARENTS, FEET, 0, None, FPS, &ContactParams::default()).is_err()
         );
-        let (poses, _) = run(10, 100.0);
+        let (poses, _) = run(10, 100.0, true);
         let error = contact_translation(&poses, &PARENTS, FEET, 0, None, 0.0, &ContactParams::default());
         assert!(error.unwrap_err().contains("frame rate"));
     }
