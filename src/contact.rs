@@ -8,22 +8,26 @@
 //! 1. **A foot on the floor does not slide.** The foot rolls — lands on the
 //!    heel, stands flat, pushes off over the toes — and the point it rolls
 //!    over stays put. The candidates are the points of the sole
-//!    ([`crate::sole`]): a virtual heel, the sole under the ankle, the toes.
-//! 2. **The centre of mass does not change velocity abruptly.** Of all the
-//!    ways to pin one sole point (or both feet) in each frame, the method
-//!    takes the one sequence along which the centre of mass moves most
-//!    smoothly over the whole recording, solved exactly by dynamic
+//!    ([`crate::sole`]): a virtual heel, the sole under the ankle, the sole
+//!    under the toes, at a depth below the joints that is estimated per
+//!    recording.
+//! 2. **The floor pushes the centre of mass.** Of all the ways to pin one
+//!    sole point (or both feet) in each frame, the method takes the one
+//!    sequence over the whole recording along which the centre of mass's
+//!    changes of velocity are best explained by the floor pushing it from the
+//!    pinned foot (the inverted pendulum), solved exactly by dynamic
 //!    programming. Where no foot explains the motion — in the air, or while
 //!    one foot slides in as the other slides out — the centre of mass
 //!    *coasts*: it keeps its horizontal velocity, as in flight it must.
 //! 3. **The floor pushes but never pulls.** The hips' height puts the lowest
 //!    sole point on the floor. Over a coasting stretch the centre of mass
 //!    follows the parabola that gravity gives between take-off and landing;
-//!    where that lifts both feet off the floor it is a flight, and no foot
-//!    ever goes below the floor.
+//!    where that lifts both feet off the floor, and the body was thrown up
+//!    into it, it is a flight, and no foot ever goes below the floor.
 //!
-//! Everything is in seconds and centimetres, so 30 fps and 100 Hz recordings
-//! behave alike, and the cost is O(frames × sole points²).
+//! Everything is in seconds and centimetres, and the costs are integrals over
+//! time, so 30 fps and 100 Hz recordings behave alike. The cost is
+//! O(frames × sole points²) per sole depth tried.
 
 use glam::DVec3;
 
@@ -388,7 +392,7 @@ struct Contacts<'a> {
     /// (cm/s) it gives.
     chosen: Vec<Candidate>,
     hips_velocity: Vec<DVec3>,
-    /// The total cost of the choice (see [`Contacts::smoothest`]).
+    /// The total cost of the choice (see [`Contacts::best_sequence`]).
     cost: f64,
 }
 
@@ -423,7 +427,7 @@ impl<'a> Contacts<'a> {
             hips_velocity: Vec::new(),
             cost: 0.0,
         };
-        (contacts.chosen, contacts.hips_velocity, contacts.cost) = contacts.smoothest(calm_g, params);
+        (contacts.chosen, contacts.hips_velocity, contacts.cost) = contacts.best_sequence(calm_g, params);
         contacts
     }
 
@@ -526,7 +530,7 @@ impl<'a> Contacts<'a> {
     ///   costs `(d / COM_PRIOR_CM)²` per `COST_TIME_S` (see there);
     /// - coasting costs [`COAST_COST_PER_S`] per second; the floor does not
     ///   push a coasting body.
-    fn smoothest(
+    fn best_sequence(
         &self,
         calm_g: &dyn Fn(usize, usize) -> Option<f64>,
         params: &ContactParams,
