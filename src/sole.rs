@@ -233,6 +233,11 @@ impl<'a> FootGeometry<'a> {
             // Per bone: forward along the sole and down, perpendicular to it.
             for (i, &(a, b)) in bones.iter().enumerate() {
                 let v = p(f, b) - p(f, a);
+                // A bone with no length in this frame (a mis-tracked frame)
+                // has no direction: its sole keeps the last frame's axes.
+                if v.length() <= 1e-9 {
+                    continue;
+                }
                 let flat = v.with_y(0.0);
                 if flat.length() > 1e-6 * v.length() {
                     headings[i] = flat.normalize();
