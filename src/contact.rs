@@ -296,6 +296,20 @@ pub fn contact_translation(
     Ok(ContactResult { shift_cm, support, contact_part, clearance_cm, ground_cm, sole_depth_cm, warnings })
 }
 
+/// The part of the velocity change `change` (cm/s) that the floor's push
+/// does not explain, when the push is `push + s · along` for the `s` in
+/// [0, 1] that explains most: the centre of pressure placed where on its
+/// segment it fits best (see [`Contacts::pressure_segment`]).
+fn unexplained_change(change: DVec3, push: DVec3, along: DVec3) -> DVec3 {
+    let r = change - push;
+    let s = if along.length_squared() > 0.0 {
+        (r.dot(along) / along.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    r - s * along
+}
+
 /// The body's centre of mass relative to the hips, per frame (cm), from
 /// Dempster's segment masses: per leg the thigh 10%, the shank 4.65% and the
 /// foot 1.45% of the body, each at its segment's middle (the foot at the
@@ -630,13 +644,7 @@ impl<'a> Contacts<'a> {
                     // has no velocity to compare with.
                     let unexplained = match now {
                         Some(v) if f > 1 => {
-                            let r = horizontal(v - com_velocity[j]) - push;
-                            let s = if along.length_squared() > 0.0 {
-                                (-r.dot(along) / along.length_squared()).clamp(0.0, 1.0)
-                            } else {
-                                0.0
-                            };
-                            (r + s * along).length() / slip
+                            unexplained_change(horizontal(v - com_velocity[j]), push, along).length() / slip
                         }
                         _ => 0.0,
                     };
@@ -787,6 +795,24 @@ mod tests {
         assert!(result.shift_cm.iter().all(|s| (*s - result.shift_cm[0]).length() < 1e-9));
         assert!(result.support.iter().all(|s| *s != Support::Flight));
         assert!(result.warnings.is_empty());
+    }
+
+    #[test]
+    fn the_push_comes_from_within_the_pressure_segment() {
+        // Centre of mass at the origin; pressure anywhere from 10 cm behind
+        // it to 20 cm behind it (a foot); `k` cm/s of push per cm.
+        let (com, from, to, k) = (DVec3::ZERO, DVec3::new(0.0, 0.0, -10.0), DVec3::new(0.0, 0.0, -20.0), 0.5);
+        let push = (com - from) * k;
+        let along = -(to - from) * k;
+        // Pressed from the middle of the foot: pushed forward 7.5 cm/s,
+        // fully explained; from the heel end, 10.
+        let explained = |change: DVec3| unexplained_change(change, push, along).length();
+        assert!(explained(DVec3::new(0.0, 0.0, 7.5)) < 1e-12);
+        assert!(explained(DVec3::new(0.0, 0.0, 10.0)) < 1e-12);
+        // Not from beyond the foot (2.5 cm/s short of the nearest end), nor
+        // from the far side of the centre of mass.
+        assert!((explained(DVec3::new(0.0, 0.0, 2.5)) - 2.5).abs() < 1e-12);
+        assert!((explained(DVec3::new(0.0, 0.0, -5.0)) - 10.0).abs() < 1e-12);
     }
 
     #[test]
