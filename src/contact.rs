@@ -26,13 +26,14 @@
 //!    into it, it is a flight, and no foot ever goes below the floor.
 //!
 //! Everything is in seconds and centimetres, and the costs are integrals over
-//! time, so 30 fps and 100 Hz recordings behave alike. The cost is
-//! O(frames × sole points²) per sole depth tried.
+//! time. Not yet alike across rates: above 33 fps velocities are smoothed
+//! over 30 ms ([`JITTER_S`]), which makes an abrupt change of velocity cost a
+//! third of what it costs at 30 fps. The cost is O(frames × sole points²)
+//! per sole depth tried.
 
 use glam::DVec3;
 
-use crate::feet::foot_points;
-use crate::feet::{Feet, Foot};
+use crate::feet::{Feet, Foot, above_hips, foot_points};
 use crate::signals::{STANDARD_GRAVITY_CM_PER_S2, median, smooth_paths};
 use crate::skeleton::Poses;
 use crate::sole::{Sole, SolePart, soles};
@@ -47,7 +48,7 @@ pub struct ContactParams {
     pub touch_cm: f64,
     /// A sole point higher than this is never pinned.
     pub lift_cm: f64,
-    /// The unit of velocity change (cm/s) in the smoothness cost: a foot
+    /// The unit of velocity change (cm/s) in the cost: a foot
     /// sliding this fast costs as much as a point `touch_cm` off the floor.
     /// Walking is ~130 cm/s and a swinging foot twice that; 25 cm/s is well
     /// below both and well above tracking noise.
@@ -146,14 +147,16 @@ pub struct ContactResult {
     /// Per foot `[left, right]`: the part of the sole pinned while that foot
     /// is down, else the part nearest the floor.
     pub contact_part: [Vec<SolePart>; 2],
-    /// Per foot: the height of its lowest point above the floor (cm), as
-    /// corrected. Zero for a foot on the floor.
+    /// Per foot: the height of its lowest sole point above the floor (cm),
+    /// as corrected. Zero for the lower foot on the floor; the other foot's
+    /// lowest point may stand a little above it even while pinned.
     pub clearance_cm: [Vec<f64>; 2],
     /// The floor's height in the recording's coordinates (cm): where the
     /// corrected recording puts its lowest foot points.
     pub ground_cm: f64,
-    /// The sole depth used (cm): as given, or as estimated.
-    pub sole_depth_cm: f64,
+    /// The sole depth used (cm), as given or as estimated; `None` where it
+    /// does not apply (feet without toes: their ankles are pinned).
+    pub sole_depth_cm: Option<f64>,
     pub warnings: Vec<String>,
 }
 
@@ -195,16 +198,26 @@ pub fn contact_translation(
     // Horizontal: for each sole depth, the contact sequence along which the
     // centre of mass moves most as the floor pushes it; the depth whose best
     // sequence fits best.
+    if let Some(depth) = params.sole_depth_cm.filter(|d| !(d.is_finite() && *d >= 0.0)) {
+        return Err(format!("the sole depth must be a distance in cm, not {depth}"));
+    }
     let depths = params.sole_depth_cm.map_or(SOLE_DEPTHS_CM.to_vec(), |depth| vec![depth]);
     let mut best: Option<Contacts> = None;
+    let mut toes = true;
     for sole_depth_cm in depths {
         let soles = soles(poses, parents, [feet.left, feet.right], hips, sole_depth_cm)
             .map(|sole| sole.smoothed(sigma_samples));
+        // Feet without toes have no sole below their joints to place: every
+        // depth gives the same.
+        toes = soles.iter().any(Sole::has_toes);
         let contacts = Contacts::choose(soles, sole_depth_cm, &com_from_hips, dt, &calm_g, params);
         // Ties keep the shallower sole: where depth makes no difference (no
         // foot rolls), the joints themselves are the plainest answer.
         if best.as_ref().is_none_or(|b| contacts.cost < b.cost) {
             best = Some(contacts);
+        }
+        if !toes {
+            break;
         }
     }
     let Some(Contacts { soles, lowest, low, standing, chosen, hips_velocity, sole_depth_cm, .. }) = best
@@ -220,34 +233,38 @@ pub fn contact_translation(
     // stretch is a flight.
     let mut height = standing.clone();
     let mut flight = vec![false; n];
+    let com_height = |f: usize| standing[f] + com_from_hips[f].y;
     for (start, end) in runs(&chosen, Candidate::Coast) {
-        // The centre of mass's arc from the last frame on the floor to the
-        // first one back (or level at the recording's ends).
-        let (a, b) = (start.saturating_sub(1), end.min(n - 1));
-        let com_height = |f: usize| standing[f] + com_from_hips[f].y;
+        // `chosen[f]` is the move from frame f - 1 to f, so a coasting run
+        // [start, end) leaves the floor after frame start - 1 and is back on
+        // it at frame end - 1, unless it runs off the recording's start or
+        // end; there the arc is taken level.
+        let take_off = start.checked_sub(1);
+        let landing = (end < n).then(|| end - 1);
+        let (a, b) = (take_off.unwrap_or(0), landing.unwrap_or(n - 1));
+        let Some(level) = take_off.or(landing).map(com_height) else { continue };
+        let (height_a, height_b) = (take_off.map_or(level, com_height), landing.map_or(level, com_height));
+        let air = start..landing.unwrap_or(n);
         let (ta, tb) = (a as f64 * dt, b as f64 * dt);
         let arc = |f: usize| -> f64 {
             let t = f as f64 * dt;
             let s = if tb > ta { (t - ta) / (tb - ta) } else { 0.0 };
-            com_height(a)
-                + s * (com_height(b) - com_height(a))
-                + 0.5 * STANDARD_GRAVITY_CM_PER_S2 * (t - ta) * (tb - t)
+            height_a + s * (height_b - height_a) + 0.5 * STANDARD_GRAVITY_CM_PER_S2 * (t - ta) * (tb - t)
         };
         // A flight lifts the feet clear of the floor and never pushes one
         // into it: where the arc would, a foot was holding the body up.
         let above = |f: usize| arc(f) - com_from_hips[f].y - standing[f];
         let lifts =
-            (start..end).all(|f| above(f) >= 0.0) && (start..end).any(|f| above(f) > params.flight_margin_cm);
+            air.clone().all(|f| above(f) >= 0.0) && air.clone().any(|f| above(f) > params.flight_margin_cm);
         // And a body leaves the floor because the floor threw it up: it was
         // rising in its last moments on the floor, or falls into the landing.
         // (A kata's turn coasts too, on a level body, and is no flight.)
         let span = ((BALLISTIC_EVIDENCE_S / dt).round() as usize).max(1);
-        let rising =
-            a >= span && com_height(a) - com_height(a - span) > MIN_TAKEOFF_CM_PER_S * span as f64 * dt;
-        let falling =
-            b + span < n && com_height(b) - com_height(b + span) > MIN_TAKEOFF_CM_PER_S * span as f64 * dt;
+        let fast = MIN_TAKEOFF_CM_PER_S * span as f64 * dt;
+        let rising = take_off.is_some_and(|a| a >= span && com_height(a) - com_height(a - span) > fast);
+        let falling = landing.is_some_and(|b| b + span < n && com_height(b) - com_height(b + span) > fast);
         if lifts && (rising || falling) {
-            for f in start..end {
+            for f in air {
                 height[f] = (arc(f) - com_from_hips[f].y).max(standing[f]);
                 flight[f] = true;
             }
@@ -293,6 +310,7 @@ pub fn contact_translation(
             100.0 * flight_frames as f64 / n as f64
         ));
     }
+    let sole_depth_cm = toes.then_some(sole_depth_cm);
     Ok(ContactResult { shift_cm, support, contact_part, clearance_cm, ground_cm, sole_depth_cm, warnings })
 }
 
@@ -314,7 +332,7 @@ fn unexplained_change(change: DVec3, push: DVec3, along: DVec3) -> DVec3 {
 /// Dempster's segment masses: per leg the thigh 10%, the shank 4.65% and the
 /// foot 1.45% of the body, each at its segment's middle (the foot at the
 /// ankle), and the rest (68%: trunk, head, arms) at the mean of the joints
-/// that are not in a leg. An unweighted mean of all joints would give the
+/// that are not in a leg nor above the hips. An unweighted mean of all joints would give the
 /// arms a third of the body's mass instead of a tenth.
 fn centre_of_mass_from_hips(poses: &Poses, parents: &[Option<usize>], feet: Feet, hips: usize) -> Vec<DVec3> {
     // A leg: the joints from the foot up to, not including, the hips.
@@ -330,8 +348,9 @@ fn centre_of_mass_from_hips(poses: &Poses, parents: &[Option<usize>], feet: Feet
     };
     let legs = [leg(feet.left), leg(feet.right)];
     let toes = [foot_points(parents, feet.left), foot_points(parents, feet.right)];
+    let above = above_hips(parents, hips);
     let rest: Vec<usize> = (0..poses.joint_count)
-        .filter(|j| !legs.iter().chain(&toes).any(|joints| joints.contains(j)))
+        .filter(|j| !legs.iter().chain(&toes).chain([&above]).any(|joints| joints.contains(j)))
         .collect();
     (0..poses.frame_count())
         .map(|f| {
@@ -495,7 +514,7 @@ impl<'a> Contacts<'a> {
         match candidate {
             Candidate::Point { side, .. } => {
                 let sole = &self.soles[side];
-                Some((sole.at(f, 0), sole.at(f, sole.point_count() - 1)))
+                Some((sole.at(f, 0), sole.at(f, sole.tip)))
             }
             Candidate::Double => {
                 Some((self.soles[0].at(f, self.lowest[0][f]), self.soles[1].at(f, self.lowest[1][f])))
@@ -769,6 +788,17 @@ mod tests {
             assert!(lowest > floor - 1e-6, "frame {f}: a foot at {lowest} below the floor {floor}");
         }
         assert!(flights.map(|f| moved.at(f, 0).y).fold(0.0, f64::max) > 90.0 + (floor - 2.0) + 2.0);
+        // The hips' height is the true one, up to where the floor is put,
+        // in the air and out of it, within the 3 mm that a take-off between
+        // two frames costs the arc (it starts at the last frame on the
+        // floor); the flight that runs off the recording's end is left out
+        // (its arc is a guess, taken level).
+        let off = |f: usize| moved.at(f, 0).y - poses.at(f, 0).y;
+        let last_on_floor = airborne.iter().rposition(|&a| !a).unwrap_or(0);
+        for f in 0..=last_on_floor {
+            let wrong = off(f) - off(0);
+            assert!(wrong.abs() < 0.35, "frame {f} ({:?}): hips {wrong} cm off", result.support[f]);
+        }
     }
 
     #[test]

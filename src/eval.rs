@@ -16,7 +16,7 @@ use crate::recording::{FeetChoice, Method, Recording, Translated};
 use crate::skeleton::Poses;
 
 /// A foot is planted in the truth when its lowest point is within this
-/// height of that point's lowest level in the recording and one of its joints
+/// height of the foot's lowest level in the recording and one of its joints
 /// moves no faster than `TRUTH_STILL_CM_PER_S` (horizontally): a few
 /// millimetres a frame at 30 fps, an optical marker's jitter, not motion.
 /// Frames in which a foot on the floor rolls about a point that is no joint
@@ -35,12 +35,14 @@ pub struct Accuracy {
     pub final_error_pct: f64,
     /// Estimated / true horizontal hips path length.
     pub path_ratio: f64,
-    /// Foot skating: over the frames where a foot is planted in the truth,
-    /// the mean horizontal speed in the estimate of the joint of it that the
-    /// truth holds still.
+    /// Foot skating: over the frames where a foot is planted in the truth
+    /// (per foot: a frame with both planted counts twice), the mean
+    /// horizontal speed in the estimate of the joint of it that the truth
+    /// holds still. NaN when no foot is ever planted (a sprint's 20 frames).
     pub skating_cm_per_s: f64,
-    /// The same joints' mean speed in the truth: its tracking jitter, the
-    /// floor under `skating_cm_per_s`.
+    /// The same joints' mean speed in the truth: its tracking jitter, a
+    /// reference for `skating_cm_per_s` (an estimate that holds the joint
+    /// itself still can come in under it).
     pub truth_skating_cm_per_s: f64,
     /// Mean |estimated − true| hips height.
     pub vertical_error_cm: f64,
@@ -118,7 +120,7 @@ pub fn accuracy(estimated: &Translated, truth: &Poses, parents: &[Option<usize>]
         .collect();
     let mean_speed = |poses: &Poses| {
         if planted.is_empty() {
-            return 0.0;
+            return f64::NAN;
         }
         planted.iter().map(|&(f, j)| speed(poses, f, j)).sum::<f64>() / planted.len() as f64
     };

@@ -99,6 +99,19 @@ pub fn hips_joint(parents: &[Option<usize>], feet: Feet) -> usize {
     ancestors(feet.right).into_iter().find(|j| left.contains(j) && *j != feet.left).unwrap_or(0)
 }
 
+/// The joints above `hips`, nearest first: not the body, but what exporters
+/// put above it (optical datasets' static `joint_Root` on the floor under the
+/// start, a world or reference node). Neither drawn nor weighed.
+pub fn above_hips(parents: &[Option<usize>], hips: usize) -> Vec<usize> {
+    let mut above = Vec::new();
+    let mut joint = parents.get(hips).copied().flatten();
+    while let Some(j) = joint.filter(|&j| j != hips && !above.contains(&j)) {
+        above.push(j);
+        joint = parents.get(j).copied().flatten();
+    }
+    above
+}
+
 /// The foot joint and every joint below it (toes, end sites): the points of
 /// the foot that can touch the floor.
 pub fn foot_points(parents: &[Option<usize>], foot_joint: usize) -> Vec<usize> {
@@ -164,6 +177,10 @@ mod tests {
         // 0 static root, 1 hips, 2 spine, 3/4 left thigh/foot, 5/6 right thigh/foot, 7 left toe
         let parents = [None, Some(0), Some(1), Some(1), Some(3), Some(1), Some(5), Some(4)];
         assert_eq!(hips_joint(&parents, Feet { left: 4, right: 6 }), 1);
+        assert_eq!(above_hips(&parents, 1), vec![0]);
+        assert_eq!(above_hips(&parents, 0), Vec::<usize>::new());
+        // A cycle in a malformed hierarchy ends the walk.
+        assert_eq!(above_hips(&[Some(1), Some(2), Some(1)], 0), vec![1, 2]);
         assert_eq!(foot_points(&parents, 4), vec![4, 7]);
         assert_eq!(hips_joint(&[None, None], Feet { left: 0, right: 1 }), 0);
     }

@@ -60,11 +60,20 @@ pub struct Sole {
     /// Each point's height above the floor when the foot stands flat (cm):
     /// a point is on the floor when its height minus this offset is lowest.
     pub floor_offsets_cm: Vec<f64>,
+    /// The point under the toe farthest from the ankle: with the heel
+    /// (point 0), the ends of the sole. 0 for a foot without toes.
+    pub tip: usize,
 }
 
 impl Sole {
     pub fn point_count(&self) -> usize {
         self.parts.len()
+    }
+
+    /// Whether the sole is more than the ankle: a foot with toes, whose
+    /// sole lies below its joints at some depth.
+    pub fn has_toes(&self) -> bool {
+        self.tip > 0
     }
 
     /// Point `k` of frame `f`, relative to the hips.
@@ -202,6 +211,7 @@ impl<'a> FootGeometry<'a> {
                 parts: vec![SolePart::Joint(self.joints[0])],
                 points_from_hips_cm: (0..n).map(|f| p(f, 0)).collect(),
                 floor_offsets_cm: vec![0.0],
+                tip: 0,
             };
         };
         let mut bones: Vec<Bone> = vec![(0, toe)];
@@ -258,7 +268,8 @@ impl<'a> FootGeometry<'a> {
         let mut parts = vec![SolePart::Heel, SolePart::UnderAnkle];
         parts.extend(self.toes.iter().map(|&k| SolePart::Joint(self.joints[k])));
         let floor_offsets_cm = floor_offsets(&sole_points, parts.len(), self.standing);
-        Sole { parts, points_from_hips_cm: sole_points, floor_offsets_cm }
+        let tip = 2 + self.toes.iter().position(|&k| k == toe).unwrap_or(0);
+        Sole { parts, points_from_hips_cm: sole_points, floor_offsets_cm, tip }
     }
 }
 

@@ -388,11 +388,12 @@ impl Player {
 
     /// The contact method's sole depth (cm below the lowest foot joint) and
     /// whether it was estimated: `[depth, 1]` estimated, `[depth, 0]` as set;
-    /// empty for the paper method.
+    /// empty for the paper method and for feet without toes.
     pub fn sole_depth(&self) -> Vec<f64> {
         let Some(s) = &self.session else { return Vec::new() };
         let estimated = s.settings.contact.sole_depth_cm.is_none();
-        s.translated.contact().map_or(Vec::new(), |c| vec![c.sole_depth_cm, f64::from(u8::from(estimated))])
+        let depth = s.translated.contact().and_then(|c| c.sole_depth_cm);
+        depth.map_or(Vec::new(), |d| vec![d, f64::from(u8::from(estimated))])
     }
 
     /// Where the foot accelerations came from.

@@ -321,14 +321,13 @@ impl Scene {
         parents: &[Option<usize>],
         offset: Vec3,
     ) -> (Vec<Mat4>, Vec<Mat4>) {
-        // The joints above the hips are not the body: optical exporters put a
-        // static root on the floor under the start (Bandai's `joint_Root`),
-        // and a bone from it would be a line across the room.
+        // The joints above the hips are not the body: a bone from Bandai's
+        // static `joint_Root` would be a line across the room.
         let mut above_hips = vec![false; points.len()];
-        let mut joint = parents.get(self.hips).copied().flatten();
-        while let Some(j) = joint.filter(|&j| j < above_hips.len() && !above_hips[j]) {
-            above_hips[j] = true;
-            joint = parents.get(j).copied().flatten();
+        for j in crate::feet::above_hips(parents, self.hips) {
+            if let Some(above) = above_hips.get_mut(j) {
+                *above = true;
+            }
         }
         let joints = (0..points.len())
             .filter(|&j| !above_hips[j])
