@@ -846,6 +846,26 @@ mod tests {
     }
 
     #[test]
+    fn feet_without_toes_pin_their_ankles_and_have_no_sole_depth() {
+        let frame = [DVec3::new(0.0, 90.0, 0.0), DVec3::new(-10.0, 8.0, 0.0), DVec3::new(10.0, 8.0, 0.0)];
+        let poses = Poses { joint_count: 3, positions_cm: frame.repeat(10) };
+        let parents = [None, Some(0), Some(0)];
+        let feet = Feet { left: 1, right: 2 };
+        let result =
+            contact_translation(&poses, &parents, feet, 0, None, FPS, &ContactParams::default()).unwrap();
+        assert_eq!(result.sole_depth_cm, None);
+        assert!(result.shift_cm.iter().all(|s| (*s - result.shift_cm[0]).length() < 1e-9));
+        let given = ContactParams { sole_depth_cm: Some(3.0), ..ContactParams::default() };
+        assert_eq!(
+            contact_translation(&poses, &parents, feet, 0, None, FPS, &given).unwrap().sole_depth_cm,
+            None
+        );
+        let (toed, _) = run(10, 0.0, true);
+        let result = contact_translation(&toed, &PARENTS, FEET, 0, None, FPS, &given).unwrap();
+        assert_eq!(result.sole_depth_cm, Some(3.0));
+    }
+
+    #[test]
     fn bad_input_is_an_error() {
         let empty = Poses { joint_count: 5, positions_cm: Vec::new() };
         assert!(
@@ -854,5 +874,10 @@ mod tests {
         let (poses, _) = run(10, 100.0, true);
         let error = contact_translation(&poses, &PARENTS, FEET, 0, None, 0.0, &ContactParams::default());
         assert!(error.unwrap_err().contains("frame rate"));
+        for depth in [-1.0, f64::NAN, f64::INFINITY] {
+            let params = ContactParams { sole_depth_cm: Some(depth), ..ContactParams::default() };
+            let error = contact_translation(&poses, &PARENTS, FEET, 0, None, FPS, &params);
+            assert!(error.unwrap_err().contains("sole depth"));
+        }
     }
 }
