@@ -36,7 +36,7 @@ use glam::DVec3;
 use crate::feet::{Feet, Foot, above_hips, foot_points};
 use crate::signals::{STANDARD_GRAVITY_CM_PER_S2, median, smooth_paths};
 use crate::skeleton::Poses;
-use crate::sole::{Sole, SolePart, soles};
+use crate::sole::{Sole, SolePart, foot_shapes};
 
 /// Parameters of the contact method. The defaults are physical quantities,
 /// not fitted to any recording.
@@ -202,11 +202,11 @@ pub fn contact_translation(
         return Err(format!("the sole depth must be a distance in cm, not {depth}"));
     }
     let depths = params.sole_depth_cm.map_or(SOLE_DEPTHS_CM.to_vec(), |depth| vec![depth]);
+    let shapes = foot_shapes(poses, parents, [feet.left, feet.right], hips);
     let mut best: Option<Contacts> = None;
     let mut toes = true;
     for sole_depth_cm in depths {
-        let soles = soles(poses, parents, [feet.left, feet.right], hips, sole_depth_cm)
-            .map(|sole| sole.smoothed(sigma_samples));
+        let soles = shapes.each_ref().map(|shape| shape.sole(sole_depth_cm).smoothed(sigma_samples));
         // Feet without toes have no sole below their joints to place: every
         // depth gives the same.
         toes = soles.iter().any(Sole::has_toes);

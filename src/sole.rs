@@ -120,10 +120,10 @@ fn floor_offsets(points: &[DVec3], count: usize, frames: &[usize]) -> Vec<f64> {
         .collect()
 }
 
-/// The two soles `[left, right]` of a recording, with Y up. `feet` are the
-/// foot (ankle) joints; their descendants in `parents` are the toes. The sole
-/// lies `sole_depth_cm` below the foot's lowest joint when the foot stands
-/// flat (see the module documentation).
+/// The two soles `[left, right]` of a recording, with Y up, `sole_depth_cm`
+/// below the foot's lowest joint when the foot stands flat (see the module
+/// documentation). To build soles at several depths, measure the feet once
+/// with [`foot_shapes`].
 pub fn soles(
     poses: &Poses,
     parents: &[Option<usize>],
@@ -131,6 +131,17 @@ pub fn soles(
     hips: usize,
     sole_depth_cm: f64,
 ) -> [Sole; 2] {
+    foot_shapes(poses, parents, feet, hips).map(|shape| shape.sole(sole_depth_cm))
+}
+
+/// The two feet `[left, right]` of a recording, measured: `feet` are the foot
+/// (ankle) joints, their descendants in `parents` are the toes.
+pub fn foot_shapes(
+    poses: &Poses,
+    parents: &[Option<usize>],
+    feet: [usize; 2],
+    hips: usize,
+) -> [FootShape; 2] {
     let n = poses.frame_count();
     let joints = feet.map(|foot| foot_points(parents, foot));
     let from_hips = |f: usize, j: usize| poses.at(f, j) - poses.at(f, hips);
@@ -145,67 +156,143 @@ pub fn soles(
     };
     let standing: [Vec<usize>; 2] =
         [0, 1].map(|side| (0..n).filter(|&f| lowest(side, f) <= lowest(1 - side, f)).collect());
-    [0, 1].map(|side| {
-        let foot = FootGeometry::new(&joints[side], parents, &joint_points[side], &standing[side]);
-        foot.sole(&joint_points[side], n, sole_depth_cm)
-    })
+    let [left, right] = joint_points;
+    let [left_standing, right_standing] = standing;
+    let [left_joints, right_joints] = joints;
+    [
+        FootShape::new(left_joints, parents, left, left_standing, n),
+        FootShape::new(right_joints, parents, right, right_standing, n),
+    ]
 }
 
-/// One foot's joints (the ankle first, as [`foot_points`] lists them), its
-/// bones, and how each joint stands above the floor when the foot is flat.
-struct FootGeometry<'a> {
-    joints: &'a [usize],
-    /// Per joint, the index within `joints` of its parent (`None` for the ankle).
-    parent: Vec<Option<usize>>,
-    /// The joints below the ankle that end a real bone, in order.
-    toes: Vec<usize>,
+/// One foot, measured once: its joints' paths relative to the hips, how each
+/// stands above the floor when the foot is flat, and per frame the axes of
+/// its bones' soles. Everything but the depth of the sole, so that soles at
+/// several depths cost only their points ([`FootShape::sole`]).
+pub struct FootShape {
+    /// The foot's joints, the ankle first (as [`foot_points`] lists them).
+    joints: Vec<usize>,
+    /// Frame-major, `joints.len()` per frame: each joint minus the hips (cm).
+    joint_points: Vec<DVec3>,
+    /// The frames in which the foot stands (flat, mostly).
+    standing: Vec<usize>,
     /// Per joint, its height above the foot's lowest joint when flat (cm).
     offsets_cm: Vec<f64>,
-    /// The frames in which the foot stands (flat, mostly).
-    standing: &'a [usize],
+    /// The joints below the ankle that end a real bone, in order.
+    toes: Vec<usize>,
+    /// The rocker's frames; `None` for a foot without toes.
+    rocker: Option<Rocker>,
 }
 
-/// A bone `from → to` of the foot, as indices into [`FootGeometry::joints`].
+/// Where a foot's sole lies around its joints, frame by frame.
+struct Rocker {
+    /// Per toe (in [`FootShape::toes`] order), the bone whose sole lies under
+    /// it, as an index into the per-frame axes; bone 0 is the foot's long axis.
+    under: Vec<usize>,
+    /// Frame-major, one per bone: forward along the bone's sole, and down,
+    /// perpendicular to it.
+    axes: Vec<(DVec3, DVec3)>,
+    bone_count: usize,
+    heel_behind_cm: f64,
+    /// The sole point under the toe farthest from the ankle.
+    tip: usize,
+}
+
+/// A bone `from → to` of the foot, as indices into [`FootShape::joints`].
 type Bone = (usize, usize);
 
-impl<'a> FootGeometry<'a> {
-    fn new(joints: &'a [usize], parents: &[Option<usize>], points: &[DVec3], standing: &'a [usize]) -> Self {
+impl FootShape {
+    fn new(
+        joints: Vec<usize>,
+        parents: &[Option<usize>],
+        joint_points: Vec<DVec3>,
+        standing: Vec<usize>,
+        n: usize,
+    ) -> Self {
         let count = joints.len();
+        let p = |f: usize, k: usize| joint_points[f * count + k];
         let parent: Vec<Option<usize>> = joints
             .iter()
             .map(|&j| parents.get(j).copied().flatten().and_then(|p| joints.iter().position(|&x| x == p)))
             .collect();
         let length = |k: usize, from: usize| {
-            median(
-                &standing
-                    .iter()
-                    .map(|&f| (points[f * count + k] - points[f * count + from]).length())
-                    .collect::<Vec<_>>(),
-            )
+            median(&standing.iter().map(|&f| (p(f, k) - p(f, from)).length()).collect::<Vec<_>>())
         };
-        let toes =
+        let toes: Vec<usize> =
             (1..count).filter(|&k| parent[k].is_some_and(|from| length(k, from) >= MIN_BONE_CM)).collect();
-        let offsets_cm = floor_offsets(points, count, standing);
-        FootGeometry { joints, parent, toes, offsets_cm, standing }
-    }
-
-    /// The bone whose sole lies under joint `k`: the bone starting at `k` when
-    /// there is one (a ball-of-foot joint with its toes), else the bone ending
-    /// at `k` (a toe end site, or a toe joint whose end site has no length).
-    fn bone_under(&self, k: usize) -> Option<Bone> {
-        let starting = self.toes.iter().find(|&&c| self.parent[c] == Some(k)).map(|&c| (k, c));
-        starting.or_else(|| self.parent[k].filter(|_| self.toes.contains(&k)).map(|from| (from, k)))
+        let offsets_cm = floor_offsets(&joint_points, count, &standing);
+        // The bone whose sole lies under joint `k`: the bone starting at `k`
+        // when there is one (a ball-of-foot joint with its toes), else the
+        // bone ending at `k` (a toe end site, or a toe joint whose end site
+        // has no length).
+        let bone_under = |k: usize| -> Option<Bone> {
+            let starting = toes.iter().find(|&&c| parent[c] == Some(k)).map(|&c| (k, c));
+            starting.or_else(|| parent[k].filter(|_| toes.contains(&k)).map(|from| (from, k)))
+        };
+        // The foot's long axis: from the ankle to the toe joint farthest from it.
+        let far: Vec<(usize, f64)> = toes.iter().map(|&k| (k, length(k, 0))).collect();
+        let rocker = far.iter().copied().max_by(|a, b| a.1.total_cmp(&b.1)).map(|(toe, toe_cm)| {
+            let mut bones: Vec<Bone> = vec![(0, toe)];
+            let under: Vec<usize> = toes
+                .iter()
+                .map(|&k| {
+                    let bone = bone_under(k).unwrap_or((0, toe));
+                    bones.iter().position(|&b| b == bone).unwrap_or_else(|| {
+                        bones.push(bone);
+                        bones.len() - 1
+                    })
+                })
+                .collect();
+            // Each bone dips toward its end in a flat foot; its median dip
+            // while standing tells where "flat" is for this skeleton.
+            // Trigonometry through `libm`, so the CLI and the wasm app compute
+            // bit-identical results.
+            let dip = |v: DVec3| libm::asin((-v.y / v.length()).clamp(-1.0, 1.0));
+            let flat_dips: Vec<f64> = bones
+                .iter()
+                .map(|&(a, b)| median(&standing.iter().map(|&f| dip(p(f, b) - p(f, a))).collect::<Vec<_>>()))
+                .collect();
+            let mut headings = vec![DVec3::Z; bones.len()];
+            let mut now = vec![(DVec3::Z, -DVec3::Y); bones.len()];
+            let mut axes = Vec::with_capacity(n * bones.len());
+            for f in 0..n {
+                for (i, &(a, b)) in bones.iter().enumerate() {
+                    let v = p(f, b) - p(f, a);
+                    // A bone with no length in this frame (a mis-tracked
+                    // frame) has no direction: its sole keeps the last
+                    // frame's axes.
+                    if v.length() <= 1e-9 {
+                        continue;
+                    }
+                    let flat = v.with_y(0.0);
+                    if flat.length() > 1e-6 * v.length() {
+                        headings[i] = flat.normalize();
+                    }
+                    let tilt = dip(v) - flat_dips[i];
+                    now[i] = (
+                        headings[i] * libm::cos(tilt) - DVec3::Y * libm::sin(tilt),
+                        -headings[i] * libm::sin(tilt) - DVec3::Y * libm::cos(tilt),
+                    );
+                }
+                axes.extend_from_slice(&now);
+            }
+            Rocker {
+                under,
+                axes,
+                bone_count: bones.len(),
+                heel_behind_cm: HEEL_BEHIND_ANKLE * toe_cm * libm::cos(flat_dips[0]),
+                tip: 2 + toes.iter().position(|&k| k == toe).unwrap_or(0),
+            }
+        });
+        FootShape { joints, joint_points, standing, offsets_cm, toes, rocker }
     }
 
     /// The foot's sole, `sole_depth_cm` below its lowest joint when flat.
-    fn sole(&self, points: &[DVec3], n: usize, sole_depth_cm: f64) -> Sole {
+    pub fn sole(&self, sole_depth_cm: f64) -> Sole {
         let count = self.joints.len();
-        let p = |f: usize, k: usize| points[f * count + k];
-        // The foot's long axis: from the ankle to the toe joint farthest from it.
-        let far = |k: usize| {
-            median(&self.standing.iter().map(|&f| (p(f, k) - p(f, 0)).length()).collect::<Vec<_>>())
-        };
-        let Some(&toe) = self.toes.iter().max_by(|&&a, &&b| far(a).total_cmp(&far(b))) else {
+        let n = self.joint_points.len().checked_div(count).unwrap_or(0);
+        let p = |f: usize, k: usize| self.joint_points[f * count + k];
+        let Some(rocker) = &self.rocker else {
             // A foot without toes: its ankle is all there is to pin.
             return Sole {
                 parts: vec![SolePart::Joint(self.joints[0])],
@@ -214,62 +301,20 @@ impl<'a> FootGeometry<'a> {
                 tip: 0,
             };
         };
-        let mut bones: Vec<Bone> = vec![(0, toe)];
-        let under: Vec<usize> = self
-            .toes
-            .iter()
-            .map(|&k| {
-                let bone = self.bone_under(k).unwrap_or((0, toe));
-                bones.iter().position(|&b| b == bone).unwrap_or_else(|| {
-                    bones.push(bone);
-                    bones.len() - 1
-                })
-            })
-            .collect();
-        // Each bone dips toward its end in a flat foot; its median dip while
-        // standing tells where "flat" is for this skeleton. Trigonometry
-        // through `libm`, so the CLI and the wasm app compute bit-identical
-        // results.
-        let dip = |v: DVec3| libm::asin((-v.y / v.length()).clamp(-1.0, 1.0));
-        let flat_dips: Vec<f64> = bones
-            .iter()
-            .map(|&(a, b)| median(&self.standing.iter().map(|&f| dip(p(f, b) - p(f, a))).collect::<Vec<_>>()))
-            .collect();
-        let heel_behind_cm = HEEL_BEHIND_ANKLE * far(toe) * libm::cos(flat_dips[0]);
-        let mut headings = vec![DVec3::Z; bones.len()];
         let mut sole_points = Vec::with_capacity(n * (self.toes.len() + 2));
-        let mut axes = vec![(DVec3::Z, -DVec3::Y); bones.len()];
         for f in 0..n {
-            // Per bone: forward along the sole and down, perpendicular to it.
-            for (i, &(a, b)) in bones.iter().enumerate() {
-                let v = p(f, b) - p(f, a);
-                // A bone with no length in this frame (a mis-tracked frame)
-                // has no direction: its sole keeps the last frame's axes.
-                if v.length() <= 1e-9 {
-                    continue;
-                }
-                let flat = v.with_y(0.0);
-                if flat.length() > 1e-6 * v.length() {
-                    headings[i] = flat.normalize();
-                }
-                let tilt = dip(v) - flat_dips[i];
-                axes[i] = (
-                    headings[i] * libm::cos(tilt) - DVec3::Y * libm::sin(tilt),
-                    -headings[i] * libm::sin(tilt) - DVec3::Y * libm::cos(tilt),
-                );
-            }
+            let axes = &rocker.axes[f * rocker.bone_count..(f + 1) * rocker.bone_count];
             let below = |k: usize, down: DVec3| p(f, k) + down * (self.offsets_cm[k] + sole_depth_cm);
             let (forward, down) = axes[0];
             let under_ankle = below(0, down);
-            sole_points.push(under_ankle - forward * heel_behind_cm);
+            sole_points.push(under_ankle - forward * rocker.heel_behind_cm);
             sole_points.push(under_ankle);
-            sole_points.extend(self.toes.iter().zip(&under).map(|(&k, &bone)| below(k, axes[bone].1)));
+            sole_points.extend(self.toes.iter().zip(&rocker.under).map(|(&k, &bone)| below(k, axes[bone].1)));
         }
         let mut parts = vec![SolePart::Heel, SolePart::UnderAnkle];
         parts.extend(self.toes.iter().map(|&k| SolePart::Joint(self.joints[k])));
-        let floor_offsets_cm = floor_offsets(&sole_points, parts.len(), self.standing);
-        let tip = 2 + self.toes.iter().position(|&k| k == toe).unwrap_or(0);
-        Sole { parts, points_from_hips_cm: sole_points, floor_offsets_cm, tip }
+        let floor_offsets_cm = floor_offsets(&sole_points, parts.len(), &self.standing);
+        Sole { parts, points_from_hips_cm: sole_points, floor_offsets_cm, tip: rocker.tip }
     }
 }
 
