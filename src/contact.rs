@@ -64,6 +64,19 @@ pub struct ContactParams {
     pub sole_depth_cm: Option<f64>,
 }
 
+impl ContactParams {
+    /// An error when a parameter is out of its range: a sole depth, when
+    /// given, is 0 to [`MAX_SOLE_DEPTH_CM`].
+    pub fn check(&self) -> Result<(), String> {
+        match self.sole_depth_cm {
+            Some(depth) if !(0.0..=MAX_SOLE_DEPTH_CM).contains(&depth) => {
+                Err(format!("the sole depth must be between 0 and {MAX_SOLE_DEPTH_CM} cm, not {depth}"))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
 impl Default for ContactParams {
     fn default() -> Self {
         ContactParams {
@@ -80,6 +93,9 @@ impl Default for ContactParams {
 /// site marks the skin (0), a ball-of-foot joint centre sits 2–3 cm above the
 /// skin, and a shoe adds up to 3 cm more.
 pub const SOLE_DEPTHS_CM: [f64; 7] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+
+/// The deepest sole that can be given (cm): a platform shoe's.
+pub const MAX_SOLE_DEPTH_CM: f64 = 20.0;
 
 /// The costs below add up evidence over time, in units of this duration: a
 /// height or an accelerometer reading held for this long costs its square
@@ -198,9 +214,7 @@ pub fn contact_translation(
     // Horizontal: for each sole depth, the contact sequence along which the
     // centre of mass moves most as the floor pushes it; the depth whose best
     // sequence fits best.
-    if let Some(depth) = params.sole_depth_cm.filter(|d| !(d.is_finite() && *d >= 0.0)) {
-        return Err(format!("the sole depth must be a distance in cm, not {depth}"));
-    }
+    params.check()?;
     let depths = params.sole_depth_cm.map_or(SOLE_DEPTHS_CM.to_vec(), |depth| vec![depth]);
     let shapes = foot_shapes(poses, parents, [feet.left, feet.right], hips);
     let mut best: Option<Contacts> = None;
@@ -551,7 +565,8 @@ impl<'a> Contacts<'a> {
     /// frames (Viterbi; exact for the pinned candidates, whose velocity each
     /// frame is fixed; a coasting stretch carries the velocity it entered
     /// with along its best way in). Evidence that lasts is weighed per
-    /// [`COST_TIME_S`] of time, so the frame rate does not change the balance:
+    /// [`COST_TIME_S`] of time, so a second of evidence weighs the same at
+    /// any frame rate (but see the module documentation on smoothing):
     /// - a velocity change `Δv` that the floor's push does not explain costs
     ///   `(Δv / slip)²`, times `COST_TIME_S / dt`;
     /// - a sole point `c` cm above the floor costs `(c / touch_cm)²` per

@@ -185,10 +185,8 @@ impl Player {
         };
         settings.paper.window_s = window_s;
         settings.paper.dy_eps_cm = dy_eps_cm;
-        if let Some(depth) = sole_depth_cm.filter(|d| !(d.is_finite() && (0.0..=20.0).contains(d))) {
-            return Err(js_error(format!("the sole depth must be between 0 and 20 cm, not {depth}")));
-        }
         settings.contact.sole_depth_cm = sole_depth_cm;
+        settings.contact.check().map_err(js_error)?;
         let name = |s: &str| (!s.is_empty()).then(|| s.to_string());
         settings.feet = FeetChoice { left: name(left_foot), right: name(right_foot) };
         session.set_settings(settings).map_err(js_error)?;

@@ -353,11 +353,12 @@ fn run_translate(args: &TranslateArgs) -> ExitCode {
     }
     let method = match args.method {
         MethodArg::Contact => {
-            if let Some(depth) = args.sole_depth_cm.filter(|d| !(d.is_finite() && (0.0..=20.0).contains(d))) {
-                eprintln!("error: --sole-depth-cm must be between 0 and 20 cm, not {depth}");
+            let params = ContactParams { sole_depth_cm: args.sole_depth_cm, ..ContactParams::default() };
+            if let Err(message) = params.check() {
+                eprintln!("error: --sole-depth-cm: {message}");
                 return ExitCode::from(2);
             }
-            Method::Contact(ContactParams { sole_depth_cm: args.sole_depth_cm, ..ContactParams::default() })
+            Method::Contact(params)
         }
         MethodArg::Paper => Method::Paper(PaperParams {
             window_s: args.window_s,
