@@ -26,10 +26,11 @@
 //!    into it, it is a flight, and no foot ever goes below the floor.
 //!
 //! Everything is in seconds and centimetres, and the costs are integrals over
-//! time. Not yet alike across rates: above 33 fps velocities are smoothed
-//! over 30 ms ([`JITTER_S`]), which makes an abrupt change of velocity cost a
-//! third of what it costs at 30 fps. The cost is O(frames × sole points²)
-//! per sole depth tried.
+//! time. The contacts are chosen on frames about 1/30 s apart, every one of
+//! them at 30 fps, every third at 100 Hz, once for each way of taking them,
+//! and the paths averaged ([`grid_step`]): a jump of velocity, where the
+//! pinned point changes, is weighed the same at any rate. The cost is
+//! O(frames × sole points²) per sole depth tried.
 
 use glam::DVec3;
 
@@ -120,9 +121,12 @@ const COAST_COST_PER_S: f64 = 60.0;
 const MAX_COAST_S: f64 = 0.5;
 
 /// Tracking jitter is smoothed away over this time scale (s), the standard
-/// deviation of a Gaussian: three frames at 100 Hz, well under a heel-to-toe
-/// roll (50-100 ms). Without it an inertial suit's millimetres of jitter
-/// cost a 100 Hz recording as much per frame as coasting does.
+/// deviation of a Gaussian, before every [`grid_step`]-th frame is taken:
+/// three frames at 100 Hz, well under a heel-to-toe roll (50-100 ms). The
+/// grid keeps no detail finer than its step, and an inertial suit's
+/// millimetres of jitter, left in, decide which frame of a step looks
+/// smoothest (unsmoothed, the katas' closures swing by tens of centimetres
+/// with the sampling phase).
 const JITTER_S: f64 = 0.03;
 
 /// The distance between a pinned point and the centre of mass's floor
@@ -143,6 +147,21 @@ const BALLISTIC_EVIDENCE_S: f64 = 0.05;
 /// high when reckoning the floor's push: a body crouched or lying down is not
 /// an inverted pendulum, and the push would grow without bound.
 const MIN_COM_HEIGHT_CM: f64 = 30.0;
+
+/// How many frames apart the contacts are chosen: the whole number of frames
+/// nearest [`COST_TIME_S`], at least one. The costs weigh evidence per unit
+/// of time, but a change of pinned point is a jump of velocity, and a jump
+/// costs once per frame it happens in, whatever the rate: at 100 Hz it would
+/// weigh three times what it does at 30 fps against everything else, and
+/// velocities from 10 ms differences carry three times the jitter. On frames
+/// about 1/30 s apart a recording at any rate is weighed as a 30 fps one is.
+/// Each of the `step` ways of taking every `step`-th frame is solved and
+/// their paths averaged, so the result does not depend on which frames
+/// happened to be taken; between its frames, a phase's pinned point still
+/// holds still frame by frame.
+fn grid_step(fps: f64) -> usize {
+    ((fps * COST_TIME_S).round() as usize).max(1)
+}
 
 /// Which feet are on the floor in a frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -201,11 +220,15 @@ pub fn contact_translation(
         return Err(format!("the frame rate must be positive, not {fps}"));
     }
     let dt = 1.0 / fps;
-    // Velocities come from differences of positions, which multiply tracking
-    // jitter by the frame rate (a millimetre is 10 cm/s at 100 Hz): smooth it
-    // away on a fixed time scale, unless the frames are already that far
-    // apart (at 30 fps they are 33 ms apart, and a landing happens within one).
-    let sigma_samples = if JITTER_S * fps >= 1.0 { JITTER_S * fps } else { 0.0 };
+    params.check()?;
+    // The contacts are chosen on every `step`-th frame, about COST_TIME_S
+    // apart, once for each of the `step` ways of taking them (phases), and
+    // the phases' paths are averaged; see [`grid_step`].
+    let step = grid_step(fps);
+    let phases: Vec<Vec<usize>> = (0..step.min(n)).map(|phase| (phase..n).step_by(step).collect()).collect();
+    // Before every `step`-th frame is taken, tracking jitter is smoothed
+    // away (see JITTER_S); at 30 fps no frame is left out and none is smoothed.
+    let sigma_samples = if step > 1 { JITTER_S * fps } else { 0.0 };
     let com_from_hips = smooth_paths(&centre_of_mass_from_hips(poses, parents, feet, hips), 1, sigma_samples);
     // With accelerometers: how far each foot's reading is from 1 g.
     let calm_g = |side: usize, f: usize| -> Option<f64> {
@@ -213,80 +236,104 @@ pub fn contact_translation(
     };
     // Horizontal: for each sole depth, the contact sequence along which the
     // centre of mass moves most as the floor pushes it; the depth whose best
-    // sequence fits best.
-    params.check()?;
+    // sequences fit best.
     let depths = params.sole_depth_cm.map_or(SOLE_DEPTHS_CM.to_vec(), |depth| vec![depth]);
     let shapes = foot_shapes(poses, parents, [feet.left, feet.right], hips);
-    let mut best: Option<Contacts> = None;
+    let mut best: Option<(f64, f64, Vec<Contacts>)> = None;
     let mut toes = true;
     for sole_depth_cm in depths {
         let soles = shapes.each_ref().map(|shape| shape.sole(sole_depth_cm).smoothed(sigma_samples));
         // Feet without toes have no sole below their joints to place: every
         // depth gives the same.
         toes = soles.iter().any(Sole::has_toes);
-        let contacts = Contacts::choose(soles, sole_depth_cm, &com_from_hips, dt, &calm_g, params);
+        let chosen: Vec<Contacts> = phases
+            .iter()
+            .map(|frames| {
+                let calm_g = |side: usize, g: usize| calm_g(side, frames[g]);
+                let soles = soles.each_ref().map(|sole| sole.at_frames(frames));
+                let com_from_hips = frames.iter().map(|&f| com_from_hips[f]).collect();
+                Contacts::choose(soles, com_from_hips, dt * step as f64, &calm_g, params)
+            })
+            .collect();
+        let cost = chosen.iter().map(|c| c.cost).sum::<f64>();
         // Ties keep the shallower sole: where depth makes no difference (no
         // foot rolls), the joints themselves are the plainest answer.
-        if best.as_ref().is_none_or(|b| contacts.cost < b.cost) {
-            best = Some(contacts);
+        if best.as_ref().is_none_or(|b| cost < b.0) {
+            best = Some((cost, sole_depth_cm, chosen));
         }
         if !toes {
             break;
         }
     }
-    let Some(Contacts { soles, lowest, low, standing, chosen, hips_velocity, sole_depth_cm, .. }) = best
-    else {
+    let Some((_, sole_depth_cm, chosen)) = best else {
         return Err("no sole depth to try".into());
+    };
+
+    // Back to every frame: each phase's decision for the step that holds
+    // frame f, `chosen[phase]` at step `at(phase, f)`.
+    let soles = shapes.each_ref().map(|shape| shape.sole(sole_depth_cm));
+    let (lowest, low, standing) = lowest_points(&soles, n);
+    let at = |phase: usize, f: usize| -> usize {
+        let last = phases[phase].len() - 1;
+        f.saturating_sub(phase).div_ceil(step).min(last)
     };
     let mut path = vec![horizontal(poses.at(0, hips)); n];
     for f in 1..n {
-        path[f] = path[f - 1] + hips_velocity[f] * dt;
+        let velocity = (0..phases.len())
+            .map(|phase| {
+                let contacts = &chosen[phase];
+                let g = at(phase, f);
+                // Pinned points hold still frame by frame; a coasting body
+                // keeps the velocity of its step.
+                let pinned = |side: usize, point: usize| {
+                    -horizontal(soles[side].at(f, point) - soles[side].at(f - 1, point)) / dt
+                };
+                match contacts.chosen[g] {
+                    Candidate::Point { side, point } => pinned(side, point),
+                    Candidate::Double => {
+                        let before = g.saturating_sub(1);
+                        (pinned(0, contacts.lowest[0][before]) + pinned(1, contacts.lowest[1][before])) * 0.5
+                    }
+                    Candidate::Coast => contacts.hips_velocity[g],
+                }
+            })
+            .sum::<DVec3>()
+            / phases.len() as f64;
+        path[f] = path[f - 1] + velocity * dt;
     }
 
-    // Vertical: standing on the lowest sole point, except where a coasting
-    // stretch is a flight.
+    // Vertical: standing on the lowest sole point, lifted where the phases'
+    // coasting stretches are flights (their lift above standing, linearly
+    // between their frames, averaged).
+    let lifts: Vec<(Vec<f64>, Vec<bool>)> = chosen.iter().map(|contacts| contacts.flights(params)).collect();
     let mut height = standing.clone();
     let mut flight = vec![false; n];
-    let com_height = |f: usize| standing[f] + com_from_hips[f].y;
-    for (start, end) in runs(&chosen, Candidate::Coast) {
-        // `chosen[f]` is the move from frame f - 1 to f, so a coasting run
-        // [start, end) leaves the floor after frame start - 1 and is back on
-        // it at frame end - 1, unless it runs off the recording's start or
-        // end; there the arc is taken level.
-        let take_off = start.checked_sub(1);
-        let landing = (end < n).then(|| end - 1);
-        let (a, b) = (take_off.unwrap_or(0), landing.unwrap_or(n - 1));
-        let Some(level) = take_off.or(landing).map(com_height) else { continue };
-        let (height_a, height_b) = (take_off.map_or(level, com_height), landing.map_or(level, com_height));
-        let air = start..landing.unwrap_or(n);
-        let (ta, tb) = (a as f64 * dt, b as f64 * dt);
-        let arc = |f: usize| -> f64 {
-            let t = f as f64 * dt;
-            let s = if tb > ta { (t - ta) / (tb - ta) } else { 0.0 };
-            height_a + s * (height_b - height_a) + 0.5 * STANDARD_GRAVITY_CM_PER_S2 * (t - ta) * (tb - t)
-        };
-        // A flight lifts the feet clear of the floor and never pushes one
-        // into it: where the arc would, a foot was holding the body up.
-        let above = |f: usize| arc(f) - com_from_hips[f].y - standing[f];
-        let lifts =
-            air.clone().all(|f| above(f) >= 0.0) && air.clone().any(|f| above(f) > params.flight_margin_cm);
-        // And a body leaves the floor because the floor threw it up: it was
-        // rising in its last moments on the floor, or falls into the landing.
-        // (A kata's turn coasts too, on a level body, and is no flight.)
-        let span = ((BALLISTIC_EVIDENCE_S / dt).round() as usize).max(1);
-        let fast = MIN_TAKEOFF_CM_PER_S * span as f64 * dt;
-        let rising = take_off.is_some_and(|a| a >= span && com_height(a) - com_height(a - span) > fast);
-        let falling = landing.is_some_and(|b| b + span < n && com_height(b) - com_height(b + span) > fast);
-        if lifts && (rising || falling) {
-            for f in air {
-                height[f] = (arc(f) - com_from_hips[f].y).max(standing[f]);
-                flight[f] = true;
-            }
+    for f in 0..n {
+        let mut lift = 0.0;
+        let mut flying = 0;
+        for (phase, (lifted, flights)) in lifts.iter().enumerate() {
+            let s = (f as f64 - phase as f64) / step as f64;
+            let (a, b) = (s.floor().max(0.0) as usize, s.ceil().max(0.0) as usize);
+            let (a, b) = (a.min(lifted.len() - 1), b.min(lifted.len() - 1));
+            let t = if b > a { s - a as f64 } else { 0.0 };
+            lift += lifted[a] * (1.0 - t) + lifted[b] * t;
+            flying += usize::from(flights[if t < 0.5 { a } else { b }]);
         }
+        height[f] += lift / lifts.len() as f64;
+        flight[f] = 2 * flying > lifts.len();
     }
     let clearance_cm: [Vec<f64>; 2] = [0, 1].map(|side| (0..n).map(|f| height[f] + low[side][f]).collect());
+    // What the method decided in frame f: what most phases decided (ties go
+    // to the earliest).
+    let decisions: Vec<Candidate> = (0..n)
+        .map(|f| {
+            most_common(
+                &(0..phases.len()).map(|phase| chosen[phase].chosen[at(phase, f)]).collect::<Vec<_>>(),
+            )
+        })
+        .collect();
     let support: Vec<Support> = (0..n)
-        .map(|f| match chosen[f] {
+        .map(|f| match decisions[f] {
             Candidate::Point { side, .. } => Support::Single(foot(side)),
             Candidate::Double => Support::Double,
             Candidate::Coast if flight[f] => Support::Flight,
@@ -296,7 +343,7 @@ pub fn contact_translation(
         .collect();
     let contact_part = [0, 1].map(|side| {
         (0..n)
-            .map(|f| match chosen[f] {
+            .map(|f| match decisions[f] {
                 Candidate::Point { side: s, point } if s == side => soles[side].parts[point],
                 _ => soles[side].parts[lowest[side][f]],
             })
@@ -393,6 +440,18 @@ fn centre_of_mass_from_hips(poses: &Poses, parents: &[Option<usize>], feet: Feet
         .collect()
 }
 
+/// The candidate that most of `votes` name; of equally many, the first named.
+fn most_common(votes: &[Candidate]) -> Candidate {
+    let count = |c: &Candidate| votes.iter().filter(|&v| v == c).count();
+    let mut best = votes.first().copied().unwrap_or(Candidate::Coast);
+    for vote in votes {
+        if count(vote) > count(&best) {
+            best = *vote;
+        }
+    }
+    best
+}
+
 /// The maximal stretches `[start, end)` of frames where `chosen` is `what`.
 fn runs(chosen: &[Candidate], what: Candidate) -> Vec<(usize, usize)> {
     let mut out = Vec::new();
@@ -422,18 +481,16 @@ enum Candidate {
     Coast,
 }
 
-/// The contacts chosen for one sole depth, and what they were chosen from.
-struct Contacts<'a> {
+/// The contacts chosen on one grid of frames for one sole depth, and what
+/// they were chosen from; frames here are the grid's.
+struct Contacts {
     soles: [Sole; 2],
-    sole_depth_cm: f64,
-    /// Per foot and frame, its sole point nearest the floor, and that point's
-    /// height above its flat-foot level, relative to the hips.
+    /// Per foot and frame, its sole point nearest the floor.
     lowest: [Vec<usize>; 2],
-    low: [Vec<f64>; 2],
     /// Per frame, the hips' height with the lowest sole point on the floor.
     standing: Vec<f64>,
     /// Per frame, the centre of mass relative to the hips (cm).
-    com_from_hips: &'a [DVec3],
+    com_from_hips: Vec<DVec3>,
     dt: f64,
     /// Per frame, the candidate chosen, and the hips' horizontal velocity
     /// (cm/s) it gives.
@@ -443,30 +500,35 @@ struct Contacts<'a> {
     cost: f64,
 }
 
-impl<'a> Contacts<'a> {
-    /// The best contacts on `soles`.
+/// Per foot and frame, its sole point nearest the floor and that point's
+/// height above its flat-foot level (relative to the hips); per frame, the
+/// hips' height with the lowest of them on the floor.
+fn lowest_points(soles: &[Sole; 2], n: usize) -> ([Vec<usize>; 2], [Vec<f64>; 2], Vec<f64>) {
+    let mut lowest = [vec![0usize; n], vec![0usize; n]];
+    let mut low = [vec![0.0; n], vec![0.0; n]];
+    for f in 0..n {
+        for side in 0..2 {
+            (lowest[side][f], low[side][f]) = soles[side].lowest(f);
+        }
+    }
+    let standing = (0..n).map(|f| -low[0][f].min(low[1][f])).collect();
+    (lowest, low, standing)
+}
+
+impl Contacts {
+    /// The best contacts on `soles`, whose frames are `dt` apart.
     fn choose(
         soles: [Sole; 2],
-        sole_depth_cm: f64,
-        com_from_hips: &'a [DVec3],
+        com_from_hips: Vec<DVec3>,
         dt: f64,
         calm_g: &dyn Fn(usize, usize) -> Option<f64>,
         params: &ContactParams,
     ) -> Self {
         let n = com_from_hips.len();
-        let mut lowest = [vec![0usize; n], vec![0usize; n]];
-        let mut low = [vec![0.0; n], vec![0.0; n]];
-        for f in 0..n {
-            for side in 0..2 {
-                (lowest[side][f], low[side][f]) = soles[side].lowest(f);
-            }
-        }
-        let standing: Vec<f64> = (0..n).map(|f| -low[0][f].min(low[1][f])).collect();
+        let (lowest, _, standing) = lowest_points(&soles, n);
         let mut contacts = Contacts {
             soles,
-            sole_depth_cm,
             lowest,
-            low,
             standing,
             com_from_hips,
             dt,
@@ -476,6 +538,57 @@ impl<'a> Contacts<'a> {
         };
         (contacts.chosen, contacts.hips_velocity, contacts.cost) = contacts.best_sequence(calm_g, params);
         contacts
+    }
+
+    /// Per frame, how far the hips rise above standing (cm) and whether the
+    /// body is in flight: over a coasting stretch the centre of mass follows
+    /// the parabola gravity gives between take-off and landing, where that
+    /// lifts both feet off the floor and the floor threw the body up into it.
+    fn flights(&self, params: &ContactParams) -> (Vec<f64>, Vec<bool>) {
+        let n = self.chosen.len();
+        let dt = self.dt;
+        let mut lift = vec![0.0; n];
+        let mut flight = vec![false; n];
+        let com_height = |f: usize| self.standing[f] + self.com_from_hips[f].y;
+        for (start, end) in runs(&self.chosen, Candidate::Coast) {
+            // `chosen[f]` is the move from frame f - 1 to f, so a coasting run
+            // [start, end) leaves the floor after frame start - 1 and is back on
+            // it at frame end - 1, unless it runs off the recording's start or
+            // end; there the arc is taken level.
+            let take_off = start.checked_sub(1);
+            let landing = (end < n).then(|| end - 1);
+            let (a, b) = (take_off.unwrap_or(0), landing.unwrap_or(n - 1));
+            let Some(level) = take_off.or(landing).map(com_height) else { continue };
+            let (height_a, height_b) =
+                (take_off.map_or(level, com_height), landing.map_or(level, com_height));
+            let air = start..landing.unwrap_or(n);
+            let (ta, tb) = (a as f64 * dt, b as f64 * dt);
+            let arc = |f: usize| -> f64 {
+                let t = f as f64 * dt;
+                let s = if tb > ta { (t - ta) / (tb - ta) } else { 0.0 };
+                height_a + s * (height_b - height_a) + 0.5 * STANDARD_GRAVITY_CM_PER_S2 * (t - ta) * (tb - t)
+            };
+            // A flight lifts the feet clear of the floor and never pushes one
+            // into it: where the arc would, a foot was holding the body up.
+            let above = |f: usize| arc(f) - self.com_from_hips[f].y - self.standing[f];
+            let lifts = air.clone().all(|f| above(f) >= 0.0)
+                && air.clone().any(|f| above(f) > params.flight_margin_cm);
+            // And a body leaves the floor because the floor threw it up: it was
+            // rising in its last moments on the floor, or falls into the landing.
+            // (A kata's turn coasts too, on a level body, and is no flight.)
+            let span = ((BALLISTIC_EVIDENCE_S / dt).round() as usize).max(1);
+            let fast = MIN_TAKEOFF_CM_PER_S * span as f64 * dt;
+            let rising = take_off.is_some_and(|a| a >= span && com_height(a) - com_height(a - span) > fast);
+            let falling =
+                landing.is_some_and(|b| b + span < n && com_height(b) - com_height(b + span) > fast);
+            if lifts && (rising || falling) {
+                for f in air {
+                    lift[f] = above(f).max(0.0);
+                    flight[f] = true;
+                }
+            }
+        }
+        (lift, flight)
     }
 
     /// The hips' horizontal velocity from frame `f - 1` to `f` (cm/s) if

@@ -95,6 +95,21 @@ impl Sole {
         Sole { points_from_hips_cm, ..self }
     }
 
+    /// The sole in the given frames only, in their order.
+    pub fn at_frames(&self, frames: &[usize]) -> Sole {
+        let count = self.parts.len();
+        let points_from_hips_cm = frames
+            .iter()
+            .flat_map(|&f| self.points_from_hips_cm[f * count..(f + 1) * count].iter().copied())
+            .collect();
+        Sole {
+            parts: self.parts.clone(),
+            points_from_hips_cm,
+            floor_offsets_cm: self.floor_offsets_cm.clone(),
+            tip: self.tip,
+        }
+    }
+
     /// The point of frame `f` lowest above its flat-foot level, and that height.
     pub fn lowest(&self, f: usize) -> (usize, f64) {
         (0..self.point_count())
