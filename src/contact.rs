@@ -679,7 +679,7 @@ impl Contacts {
     /// frame is fixed; a coasting stretch carries the velocity it entered
     /// with along its best way in). Evidence that lasts is weighed per
     /// [`COST_TIME_S`] of time, so a second of evidence weighs the same at
-    /// any frame rate (but see the module documentation on smoothing):
+    /// any frame rate (and on the grid of [`grid_step`], so does a jump):
     /// - a velocity change `Δv` that the floor's push does not explain costs
     ///   `(Δv / slip)²`, times `COST_TIME_S / dt`;
     /// - a sole point `c` cm above the floor costs `(c / touch_cm)²` per

@@ -5,8 +5,9 @@
 
 mod common;
 
-use embusen::eval::{Accuracy, evaluate_groundtruth, kata_closure_cm};
-use embusen::recording::{Method, Source};
+use embusen::eval::{Accuracy, accuracy, evaluate_groundtruth, freeze_translation, kata_closure_cm};
+use embusen::recording::{FeetChoice, Method, Recording, Source};
+use embusen::skeleton::Poses;
 
 /// Every ground-truth file, evaluated by `paper` and `contact`.
 fn evaluate_all() -> Option<Vec<(String, Accuracy, Accuracy)>> {
@@ -99,22 +100,64 @@ fn kata_closures() -> Option<[(f64, f64); 2]> {
 /// A guard against breakage, not the goal: the vendor's own translation
 /// misses Heian Shodan's start by 3.7 m. The suit's two planted feet drift
 /// apart at a median 17-21 cm/s (5 cm/s in the optical files), so which one
-/// is taken to hold still in a long stance is close to a coin toss, and
-/// changes that leave the optical files alone move either closure anywhere
-/// between 20 and 65 cm.
+/// is taken to hold still in a long stance is hard to tell; Heian Shodan
+/// closes to ~32 cm (stable within 3 cm under half a millimetre of noise).
 #[test]
-fn katas_end_within_sixty_centimetres_of_their_start() {
+fn katas_end_within_forty_centimetres_of_their_start() {
     let Some(closures) = kata_closures() else { return };
     for (_, contact) in closures {
-        assert!(contact < 60.0, "{closures:?}");
+        assert!(contact < 40.0, "{closures:?}");
     }
 }
 
 #[test]
-#[ignore = "issue 4 acceptance not met: contact closes Heian Shodan to ~32 cm and Heian Nidan to ~48 cm"]
-fn katas_close_within_fifteen_centimetres_and_better_than_paper() {
-    let Some(closures) = kata_closures() else { return };
-    for (paper, contact) in closures {
-        assert!(contact <= 15.0 && contact < paper, "{closures:?}");
+fn heian_nidan_closes_within_fifteen_centimetres() {
+    let Some([_, (_, nidan)]) = kata_closures() else { return };
+    assert!(nidan <= 15.0, "{nidan}");
+}
+
+#[test]
+#[ignore = "issue 4 acceptance not met: contact closes Heian Shodan to ~32 cm (Heian Nidan: ~14 cm, met)"]
+fn heian_shodan_closes_within_fifteen_centimetres() {
+    let Some([(_, shodan), _]) = kata_closures() else { return };
+    assert!(shodan <= 15.0, "{shodan}");
+}
+
+/// `poses` with `k` frames for each one, linearly between them (the last
+/// frame kept): every `k`-th frame is an original one.
+fn denser(poses: &Poses, k: usize) -> Poses {
+    let n = poses.frame_count();
+    let mut positions_cm = Vec::new();
+    for f in 0..(n - 1) * k + 1 {
+        let (a, t) = (f / k, (f % k) as f64 / k as f64);
+        let b = (a + 1).min(n - 1);
+        positions_cm.extend((0..poses.joint_count).map(|j| poses.at(a, j).lerp(poses.at(b, j), t)));
+    }
+    Poses { joint_count: poses.joint_count, positions_cm }
+}
+
+/// The method's parameters are in seconds and centimetres so that a
+/// recording's rate does not change its answer: the walks and the run, made
+/// three times as dense (90 fps), still meet their acceptance figures.
+#[test]
+fn a_denser_recording_meets_the_same_figures() {
+    let Some(dir) = common::data_dir() else { return };
+    for name in [
+        "bandai1_walk_active_001.bvh",
+        "bandai1_walk-right_normal_001.bvh",
+        "bandai1_run_masculinity_001.bvh",
+    ] {
+        let recording = common::open(&dir, &format!("groundtruth/{name}"));
+        let Source::Bvh(bvh) = &recording.source else { panic!("{name}: a BVH") };
+        let feet = recording.feet(&FeetChoice::default()).unwrap();
+        let mut frozen = Recording::from_bvh(freeze_translation(bvh, recording.hips(feet)), name);
+        frozen.poses = denser(&frozen.poses, 3);
+        frozen.fps = recording.fps * 3.0;
+        let estimated = frozen.translate(&FeetChoice::default(), &Method::default()).unwrap();
+        let contact = accuracy(&estimated, &denser(&recording.poses, 3), &recording.parents, frozen.fps);
+        eprintln!("{name} at {} fps: {contact:?}", frozen.fps);
+        let (mean, ratio) = if is(name, "run") { (5.0, 0.9..=1.1) } else { (1.0, 0.97..=1.03) };
+        assert!(contact.mean_error_pct <= mean, "{name}: {contact:?}");
+        assert!(ratio.contains(&contact.path_ratio), "{name}: {contact:?}");
     }
 }
