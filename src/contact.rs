@@ -26,11 +26,15 @@
 //!    into it, it is a flight, and no foot ever goes below the floor.
 //!
 //! Everything is in seconds and centimetres, and the costs are integrals over
-//! time. The contacts are chosen on frames about 1/30 s apart, every one of
-//! them at 30 fps, every third at 100 Hz, once for each way of taking them,
-//! and the paths averaged ([`grid_step`]): a jump of velocity, where the
-//! pinned point changes, is weighed the same at any rate. The cost is
-//! O(frames × sole points²) per sole depth tried.
+//! time. The contacts are chosen on frames about 1/30 s apart (every one at
+//! 30 fps, every third at 100 Hz; step 2 from 45 fps), once for each way of
+//! taking them, and the paths averaged ([`grid_step`]): a jump of velocity,
+//! where the pinned point changes, weighs within a factor 1.5 of what it
+//! weighs at 30 fps at any rate, where on every frame of a 100 Hz recording
+//! it would weigh 3.3 times as much. Each grid's sequence is the exact
+//! optimum; their average is not a sequence of its own. The cost is
+//! O(frames × sole points²) per sole depth tried, plus O(frames × step) to
+//! bring the grids back to every frame.
 
 use glam::DVec3;
 
@@ -120,13 +124,15 @@ const COAST_COST_PER_S: f64 = 60.0;
 /// across a whole recording.
 const MAX_COAST_S: f64 = 0.5;
 
-/// Tracking jitter is smoothed away over this time scale (s), the standard
-/// deviation of a Gaussian, before every [`grid_step`]-th frame is taken:
-/// three frames at 100 Hz, well under a heel-to-toe roll (50-100 ms). The
-/// grid keeps no detail finer than its step, and an inertial suit's
-/// millimetres of jitter, left in, decide which frame of a step looks
-/// smoothest (unsmoothed, the katas' closures swing by tens of centimetres
-/// with the sampling phase).
+/// Where frames are left out (a [`grid_step`] above one, from 45 fps),
+/// tracking jitter is first smoothed away over this time scale (s), the
+/// standard deviation of a Gaussian: three frames at 100 Hz, well under a
+/// heel-to-toe roll (50-100 ms). The grid keeps no detail finer than its
+/// step, and an inertial suit's millimetres of jitter, left in, decide which
+/// frame of a step looks smoothest (unsmoothed, the katas' closures swing by
+/// tens of centimetres with the sampling phase). Only the choice of contacts
+/// sees the smoothed paths; the pinned points hold still unsmoothed. Below
+/// 45 fps every frame is used, unsmoothed, as at 30 fps.
 const JITTER_S: f64 = 0.03;
 
 /// The distance between a pinned point and the centre of mass's floor
@@ -154,8 +160,9 @@ const MIN_COM_HEIGHT_CM: f64 = 30.0;
 /// costs once per frame it happens in, whatever the rate: at 100 Hz it would
 /// weigh three times what it does at 30 fps against everything else, and
 /// velocities from 10 ms differences carry three times the jitter. On frames
-/// about 1/30 s apart a recording at any rate is weighed as a 30 fps one is.
-/// Each of the `step` ways of taking every `step`-th frame is solved and
+/// about 1/30 s apart (22.5 to 45 per second) a recording at any rate is
+/// weighed nearly as a 30 fps one is. Each of the `step` ways of taking
+/// every `step`-th frame (fewer when the recording is shorter) is solved and
 /// their paths averaged, so the result does not depend on which frames
 /// happened to be taken; between its frames, a phase's pinned point still
 /// holds still frame by frame.
@@ -273,9 +280,10 @@ pub fn contact_translation(
     // frame f, `chosen[phase]` at step `at(phase, f)`.
     let soles = shapes.each_ref().map(|shape| shape.sole(sole_depth_cm));
     let (lowest, low, standing) = lowest_points(&soles, n);
+    // (The frames before a phase's first step go with that step.)
     let at = |phase: usize, f: usize| -> usize {
         let last = phases[phase].len() - 1;
-        f.saturating_sub(phase).div_ceil(step).min(last)
+        f.saturating_sub(phase).div_ceil(step).clamp(1.min(last), last)
     };
     let mut path = vec![horizontal(poses.at(0, hips)); n];
     for f in 1..n {
@@ -290,10 +298,7 @@ pub fn contact_translation(
                 };
                 match contacts.chosen[g] {
                     Candidate::Point { side, point } => pinned(side, point),
-                    Candidate::Double => {
-                        let before = g.saturating_sub(1);
-                        (pinned(0, contacts.lowest[0][before]) + pinned(1, contacts.lowest[1][before])) * 0.5
-                    }
+                    Candidate::Double => (pinned(0, lowest[0][f - 1]) + pinned(1, lowest[1][f - 1])) * 0.5,
                     Candidate::Coast => contacts.hips_velocity[g],
                 }
             })
@@ -302,7 +307,7 @@ pub fn contact_translation(
         path[f] = path[f - 1] + velocity * dt;
     }
 
-    // Vertical: standing on the lowest sole point, lifted where the phases'
+    // Vertical: standing on the lowest sole point, lifted where most phases'
     // coasting stretches are flights (their lift above standing, linearly
     // between their frames, averaged).
     let lifts: Vec<(Vec<f64>, Vec<bool>)> = chosen.iter().map(|contacts| contacts.flights(params)).collect();
@@ -319,8 +324,12 @@ pub fn contact_translation(
             lift += lifted[a] * (1.0 - t) + lifted[b] * t;
             flying += usize::from(flights[if t < 0.5 { a } else { b }]);
         }
-        height[f] += lift / lifts.len() as f64;
+        // A flight where most phases fly, and only there: a foot that the
+        // method says is on the floor is on it.
         flight[f] = 2 * flying > lifts.len();
+        if flight[f] {
+            height[f] += lift / lifts.len() as f64;
+        }
     }
     let clearance_cm: [Vec<f64>; 2] = [0, 1].map(|side| (0..n).map(|f| height[f] + low[side][f]).collect());
     // What the method decided in frame f: what most phases decided (ties go
@@ -442,14 +451,21 @@ fn centre_of_mass_from_hips(poses: &Poses, parents: &[Option<usize>], feet: Feet
 
 /// The candidate that most of `votes` name; of equally many, the first named.
 fn most_common(votes: &[Candidate]) -> Candidate {
-    let count = |c: &Candidate| votes.iter().filter(|&v| v == c).count();
-    let mut best = votes.first().copied().unwrap_or(Candidate::Coast);
-    for vote in votes {
-        if count(vote) > count(&best) {
-            best = *vote;
+    // Votes name few distinct candidates: count each once.
+    let mut counts: Vec<(Candidate, usize)> = Vec::new();
+    for &vote in votes {
+        match counts.iter_mut().find(|(c, _)| *c == vote) {
+            Some((_, count)) => *count += 1,
+            None => counts.push((vote, 1)),
         }
     }
-    best
+    let mut best = counts.first().copied().unwrap_or((Candidate::Coast, 0));
+    for &(candidate, count) in &counts {
+        if count > best.1 {
+            best = (candidate, count);
+        }
+    }
+    best.0
 }
 
 /// The maximal stretches `[start, end)` of frames where `chosen` is `what`.
@@ -543,7 +559,8 @@ impl Contacts {
     /// Per frame, how far the hips rise above standing (cm) and whether the
     /// body is in flight: over a coasting stretch the centre of mass follows
     /// the parabola gravity gives between take-off and landing, where that
-    /// lifts both feet off the floor and the floor threw the body up into it.
+    /// lifts both feet off the floor and the body was rising into the
+    /// take-off or falls into the landing.
     fn flights(&self, params: &ContactParams) -> (Vec<f64>, Vec<bool>) {
         let n = self.chosen.len();
         let dt = self.dt;

@@ -117,7 +117,7 @@ fn heian_nidan_closes_within_fifteen_centimetres() {
 }
 
 #[test]
-#[ignore = "issue 4 acceptance not met: contact closes Heian Shodan to ~32 cm (Heian Nidan: ~14 cm, met)"]
+#[ignore = "issue 4 acceptance not met: contact closes Heian Shodan to ~32 cm (Heian Nidan: 14.3 cm, met)"]
 fn heian_shodan_closes_within_fifteen_centimetres() {
     let Some([(_, shodan), _]) = kata_closures() else { return };
     assert!(shodan <= 15.0, "{shodan}");
