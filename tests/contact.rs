@@ -1,6 +1,7 @@
 //! The translation methods never panic, whatever skeleton and motion they are
 //! given: feet without toes, toes with several children, zero-length bones,
-//! joints on top of each other, one frame or none.
+//! joints on top of each other, one frame or none, at rates whose grid
+//! step is longer than the recording.
 
 use embusen::contact::{ContactParams, contact_translation};
 use embusen::feet::{Feet, hips_joint};
@@ -34,7 +35,7 @@ proptest! {
         right in 0usize..9,
         depth in prop_oneof![Just(None), (0.0f64..20.0).prop_map(Some)],
         with_accel in any::<bool>(),
-        fps in prop_oneof![Just(30.0), Just(100.0)],
+        fps in prop_oneof![Just(30.0), Just(60.0), Just(100.0), Just(1.0e4), 1.0f64..1000.0],
     ) {
         let n = poses.joint_count;
         let feet = Feet { left: left % n, right: right % n };
