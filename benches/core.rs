@@ -5,12 +5,12 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use embusen::bvh::{Bvh, ReadOptions};
-use embusen::contact::ContactParams;
-use embusen::kinematics::forward_kinematics;
-use embusen::paper::PaperParams;
-use embusen::recording::{FeetChoice, Recording};
-use embusen::table::Table;
+use embusen::body::kinematics::forward_kinematics;
+use embusen::io::bvh::{Bvh, ReadOptions};
+use embusen::io::recording::{FeetChoice, Recording};
+use embusen::io::table::Table;
+use embusen::translate::contact::ContactParams;
+use embusen::translate::paper::PaperParams;
 
 /// Median wall time of `f` over enough runs to fill about half a second.
 fn median_time(mut f: impl FnMut()) -> Duration {

@@ -1,34 +1,25 @@
 //! embusen: gives inertial motion-capture recordings their place on the floor.
 //!
-//! The core (this crate without the `web` module) is free of browser code so
+//! The crate is layered; each folder imports only the ones below it (see
+//! `ARCHITECTURE.md`), and everything but `web` is free of browser code so
 //! that the CLI, the tests and the wasm app share it:
-//! - [`bvh`] and [`table`] read and write recordings,
-//! - [`kinematics`] turns channels into global joint positions ([`skeleton::Poses`]),
-//! - [`signals`] smooths and differentiates per-frame signals,
-//! - [`paper`] is Hachaj & Ogiela's translation method,
-//! - [`contact`] is embusen's own: foot contacts chosen over the whole
-//!   recording, with flight; [`sole`] is its model of the foot's floor points,
-//! - [`eval`] measures both against recordings whose true root motion is known,
-//! - [`metrics`] measures floor paths (length, error, closure),
-//! - [`recording`] ties a file to the method and writes the result back,
-//! - [`demo`] generates the built-in synthetic recording.
+//! - [`signal`]: smoothing, accelerations, statistics of per-frame signals;
+//! - [`body`]: skeleton, forward kinematics, feet, soles;
+//! - [`io`]: BVH and table readers and writers, and the [`io::recording::Recording`] they make;
+//! - [`translate`]: the paper's method and embusen's contact method;
+//! - [`eval`]: both measured against recordings whose true motion is known;
+//! - [`synth`]: the built-in synthetic demo;
+//! - [`app`]: what the app shows (session, plots, theme), still browser-free;
+//! - `web`: the wasm player (wasm builds only).
 
-pub mod bvh;
-pub mod contact;
-pub mod demo;
+pub mod app;
+pub mod body;
 pub mod error;
 pub mod eval;
-pub mod feet;
-pub mod kinematics;
-pub mod metrics;
-pub mod paper;
-pub mod plot;
-pub mod recording;
-pub mod session;
-pub mod signals;
-pub mod skeleton;
-pub mod sole;
-pub mod table;
+pub mod io;
+pub mod signal;
+pub mod synth;
+pub mod translate;
 
 pub use error::Error;
 

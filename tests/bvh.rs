@@ -3,9 +3,9 @@
 
 mod common;
 
-use embusen::bvh::{Bvh, ReadOptions};
-use embusen::kinematics::forward_kinematics;
-use embusen::skeleton::Channel;
+use embusen::body::kinematics::forward_kinematics;
+use embusen::body::skeleton::Channel;
+use embusen::io::bvh::{Bvh, ReadOptions};
 use glam::DVec3;
 use proptest::prelude::*;
 

@@ -6,7 +6,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use embusen::recording::Recording;
+use embusen::io::recording::Recording;
 
 fn embusen(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_embusen")).args(args).output().expect("runs embusen")

@@ -3,10 +3,10 @@
 //! joints on top of each other, one frame or none, at rates whose grid
 //! step is longer than the recording.
 
-use embusen::contact::{ContactParams, contact_translation};
-use embusen::feet::{Feet, hips_joint};
-use embusen::paper::{PaperParams, paper_translation};
-use embusen::skeleton::Poses;
+use embusen::body::feet::{Feet, hips_joint};
+use embusen::body::skeleton::Poses;
+use embusen::translate::contact::{ContactParams, contact_translation};
+use embusen::translate::paper::{PaperParams, paper_translation};
 use glam::DVec3;
 use proptest::prelude::*;
 

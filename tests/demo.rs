@@ -3,10 +3,10 @@
 //! kinematics, nothing sinks into the floor, the path is real and closes, and
 //! the simulated accelerometers read 1 g where the feet rest.
 
-use embusen::demo::{ANKLE_HEIGHT_CM, DEMO_FPS, Demo, demo};
-use embusen::feet::detect_feet;
-use embusen::kinematics::forward_kinematics;
-use embusen::skeleton::{Channel, Poses};
+use embusen::body::feet::detect_feet;
+use embusen::body::kinematics::forward_kinematics;
+use embusen::body::skeleton::{Channel, Poses};
+use embusen::synth::demo::{ANKLE_HEIGHT_CM, DEMO_FPS, Demo, demo};
 use glam::DVec3;
 
 /// As documented on [`Demo`].

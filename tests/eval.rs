@@ -5,9 +5,10 @@
 
 mod common;
 
+use embusen::body::skeleton::Poses;
 use embusen::eval::{Accuracy, accuracy, evaluate_groundtruth, freeze_translation, kata_closure_cm};
-use embusen::recording::{FeetChoice, Method, Recording, Source};
-use embusen::skeleton::Poses;
+use embusen::io::recording::{FeetChoice, Recording, Source};
+use embusen::translate::Method;
 
 /// Every ground-truth file, evaluated by `paper` and `contact`.
 fn evaluate_all() -> Option<Vec<(String, Accuracy, Accuracy)>> {

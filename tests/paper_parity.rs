@@ -4,10 +4,10 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use embusen::feet::{Feet, Foot};
-use embusen::paper::{PaperParams, PaperResult, Smoothing, paper_translation};
-use embusen::signals::magnitudes;
-use embusen::table::{Accelerations, Table};
+use embusen::body::feet::{Feet, Foot};
+use embusen::io::table::{Accelerations, Table};
+use embusen::signal::accel::magnitudes;
+use embusen::translate::paper::{PaperParams, PaperResult, Smoothing, paper_translation};
 
 mod common;
 

@@ -4,12 +4,12 @@
 
 mod common;
 
-use embusen::bvh::{Bvh, ReadOptions};
-use embusen::demo::demo;
-use embusen::metrics::{floor_closure_cm, floor_path_cm, mean_floor_error_cm};
-use embusen::paper::PaperParams;
-use embusen::recording::{AccelSource, FeetChoice};
-use embusen::table::Table;
+use embusen::eval::metrics::{floor_closure_cm, floor_path_cm, mean_floor_error_cm};
+use embusen::io::bvh::{Bvh, ReadOptions};
+use embusen::io::recording::{AccelSource, FeetChoice};
+use embusen::io::table::Table;
+use embusen::synth::demo::demo;
+use embusen::translate::paper::PaperParams;
 
 #[test]
 fn table_route_matches_the_reference_after_writing() {

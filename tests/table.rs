@@ -1,7 +1,7 @@
 //! The RMoCap table reader and writer: error positions, round trips, and the
 //! odd shapes real files come in.
 
-use embusen::table::{Accelerations, Table};
+use embusen::io::table::{Accelerations, Table};
 use glam::DVec3;
 use proptest::prelude::*;
 

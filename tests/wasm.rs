@@ -29,7 +29,7 @@ fn player() -> Player {
 #[wasm_bindgen_test]
 fn demo_opens_and_plays() {
     let mut player = player();
-    let demo = embusen::demo::demo();
+    let demo = embusen::synth::demo::demo();
     assert_eq!(player.frame_count() as usize, demo.true_root_cm.len());
     assert_eq!(player.fps(), 100.0);
     assert_eq!(player.feet(), ["LeftFoot", "RightFoot"]);
@@ -53,7 +53,7 @@ fn bad_input_keeps_the_open_recording() {
     assert!(player.load("broken.bvh", text, None, None).is_err());
     assert_eq!(player.frame_count(), frames);
     assert_eq!(player.frame(), 42);
-    assert_eq!(player.name(), embusen::demo::DEMO_NAME);
+    assert_eq!(player.name(), embusen::synth::demo::DEMO_NAME);
     assert!(player.set_settings("paper", "clean", 1.0, 5.0, "NoSuchJoint", "", None).is_err());
     assert_eq!(player.feet(), ["LeftFoot", "RightFoot"]);
 }
@@ -71,12 +71,12 @@ fn settings_recompute_and_exports_match_the_core() {
     assert_eq!(clean[0], "recording.hips.csv");
     assert_ne!(faithful[1], clean[1]);
     // The exported BVH is what the core writes for the same settings.
-    let recording = embusen::demo::demo().recording();
-    let mut settings = embusen::session::Settings { use_paper: true, ..Default::default() };
-    settings.paper.smoothing = embusen::paper::Smoothing::Clean;
+    let recording = embusen::synth::demo::demo().recording();
+    let mut settings = embusen::app::session::Settings { use_paper: true, ..Default::default() };
+    settings.paper.smoothing = embusen::translate::paper::Smoothing::Clean;
     settings.paper.window_s = 0.5;
     settings.paper.dy_eps_cm = 3.0;
-    let session = embusen::session::Session::open(recording, settings).unwrap();
+    let session = embusen::app::session::Session::open(recording, settings).unwrap();
     assert_eq!(player.export_recording()[1], session.export_recording().1);
 }
 

@@ -1,11 +1,11 @@
 //! Paints a [`Figure`] on a canvas 2D context. All layout, scaling and
-//! decimation happened in [`crate::plot`]; this only turns shapes into canvas
+//! decimation happened in [`crate::app::plot`]; this only turns shapes into canvas
 //! calls, so it stays too thin to need tests of its own.
 
 use wasm_bindgen::JsValue;
 use web_sys::CanvasRenderingContext2d;
 
-use crate::plot::{Align, DASH_PX, FONT_FAMILY, Figure, Shape};
+use crate::app::plot::{Align, DASH_PX, FONT_FAMILY, Figure, Shape};
 
 /// Paints every shape of `figure`, in order, onto `ctx`, and nothing else: it
 /// neither clears the canvas nor paints a background. Leaves the line dash

@@ -11,12 +11,12 @@ use std::sync::Arc;
 use wasm_bindgen::prelude::*;
 use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement, WebGl2RenderingContext};
 
-use crate::feet::Foot;
-use crate::paper::Smoothing;
-use crate::plot::{self, Layout, Stance};
-use crate::recording::{FeetChoice, Recording};
-use crate::session::{Session, Settings};
-use crate::table::Accelerations;
+use crate::app::plot::{self, Layout, Stance};
+use crate::app::session::{Session, Settings};
+use crate::body::feet::Foot;
+use crate::io::recording::{FeetChoice, Recording};
+use crate::io::table::Accelerations;
+use crate::translate::paper::Smoothing;
 use scene::{GhostMode, Scene};
 
 fn js_error(e: impl std::fmt::Display) -> JsError {
@@ -103,7 +103,7 @@ impl Player {
 
     /// Opens the built-in demo recording.
     pub fn load_demo(&mut self) -> Result<(), JsError> {
-        let recording = crate::demo::demo().recording();
+        let recording = crate::synth::demo::demo().recording();
         self.open(recording)
     }
 
@@ -433,8 +433,8 @@ impl Player {
 /// three.js's `BVHLoader`.
 #[wasm_bindgen]
 pub fn parse_and_kinematics(bytes: &[u8]) -> Result<u32, JsError> {
-    let bvh =
-        crate::bvh::Bvh::parse(bytes, "bench.bvh", &crate::bvh::ReadOptions::default()).map_err(js_error)?;
-    let poses = crate::kinematics::forward_kinematics(&bvh.skeleton, &bvh.motion);
+    let bvh = crate::io::bvh::Bvh::parse(bytes, "bench.bvh", &crate::io::bvh::ReadOptions::default())
+        .map_err(js_error)?;
+    let poses = crate::body::kinematics::forward_kinematics(&bvh.skeleton, &bvh.motion);
     Ok(poses.frame_count() as u32)
 }

@@ -9,7 +9,7 @@
 
 use three_d::*;
 
-use crate::skeleton::Poses;
+use crate::body::skeleton::Poses;
 
 /// How the original (uncorrected) skeleton is shown.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -324,7 +324,7 @@ impl Scene {
         // The joints above the hips are not the body: a bone from Bandai's
         // static `joint_Root` would be a line across the room.
         let mut above_hips = vec![false; points.len()];
-        for j in crate::feet::above_hips(parents, self.hips) {
+        for j in crate::body::feet::above_hips(parents, self.hips) {
             if let Some(above) = above_hips.get_mut(j) {
                 *above = true;
             }

@@ -34,7 +34,7 @@ pub fn files_with_extension(dir: &Path, ext: &str) -> Vec<PathBuf> {
 /// file lacks some end sites, as `heian_shodan.bvh` lacks the hands') match by
 /// their parent: in a table, an end site follows its parent joint.
 pub fn table_joint_of_each_bvh_joint(
-    skeleton: &embusen::skeleton::Skeleton,
+    skeleton: &embusen::body::skeleton::Skeleton,
     table_names: &[String],
 ) -> Vec<Option<usize>> {
     (0..skeleton.joint_count())
@@ -51,30 +51,30 @@ pub fn table_joint_of_each_bvh_joint(
 }
 
 /// Opens a shared recording (path relative to the data folder) as the CLI does.
-pub fn open(dir: &Path, relative: &str) -> embusen::recording::Recording {
+pub fn open(dir: &Path, relative: &str) -> embusen::io::recording::Recording {
     let path = dir.join(relative);
     let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    embusen::recording::Recording::parse(&bytes, relative, None).unwrap_or_else(|e| panic!("{e}"))
+    embusen::io::recording::Recording::parse(&bytes, relative, None).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Opens a shared accelerometer side file.
-pub fn open_accel(dir: &Path, relative: &str) -> embusen::table::Accelerations {
+pub fn open_accel(dir: &Path, relative: &str) -> embusen::io::table::Accelerations {
     let path = dir.join(relative);
     let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    embusen::table::Accelerations::parse(&bytes, relative).unwrap_or_else(|e| panic!("{e}"))
+    embusen::io::table::Accelerations::parse(&bytes, relative).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Opens a shared RMoCap table.
-pub fn open_table(dir: &Path, relative: &str) -> embusen::table::Table {
+pub fn open_table(dir: &Path, relative: &str) -> embusen::io::table::Table {
     let path = dir.join(relative);
     let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    embusen::table::Table::parse(&bytes, relative).unwrap_or_else(|e| panic!("{e}"))
+    embusen::io::table::Table::parse(&bytes, relative).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Largest per-axis difference (cm) between the forward kinematics of a BVH
 /// and the global positions of an RMoCap table, over every joint of the BVH.
-pub fn max_fk_difference_cm(bvh: &embusen::bvh::Bvh, table: &embusen::table::Table) -> f64 {
-    let poses = embusen::kinematics::forward_kinematics(&bvh.skeleton, &bvh.motion);
+pub fn max_fk_difference_cm(bvh: &embusen::io::bvh::Bvh, table: &embusen::io::table::Table) -> f64 {
+    let poses = embusen::body::kinematics::forward_kinematics(&bvh.skeleton, &bvh.motion);
     let expected = table.poses();
     assert_eq!(poses.frame_count(), expected.frame_count());
     let matches = table_joint_of_each_bvh_joint(&bvh.skeleton, &table.joint_names);

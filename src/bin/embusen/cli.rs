@@ -5,12 +5,15 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use embusen::contact::{ContactParams, Support};
-use embusen::metrics::{floor_path_cm, mean_floor_error_cm};
-use embusen::paper::{PaperParams, Smoothing};
-use embusen::recording::{Decisions, FeetChoice, Method, Recording, Translated};
-use embusen::table::Accelerations;
-use embusen::{Error, demo};
+use embusen::Error;
+use embusen::eval::metrics::{floor_path_cm, mean_floor_error_cm};
+use embusen::io::recording::{FeetChoice, Recording};
+use embusen::io::table::Accelerations;
+use embusen::signal::stats::median;
+use embusen::synth::demo;
+use embusen::translate::contact::{ContactParams, Support};
+use embusen::translate::paper::{PaperParams, Smoothing};
+use embusen::translate::{Decisions, Method, Translated};
 
 #[derive(Parser)]
 #[command(
@@ -135,17 +138,6 @@ fn expand(inputs: &[PathBuf]) -> Vec<PathBuf> {
     files
 }
 
-/// The median of the values that are numbers (NaN says "nothing to measure").
-fn median(values: &mut Vec<f64>) -> f64 {
-    values.retain(|v| !v.is_nan());
-    values.sort_by(f64::total_cmp);
-    match values.len() {
-        0 => f64::NAN,
-        n if n % 2 == 1 => values[n / 2],
-        n => 0.5 * (values[n / 2 - 1] + values[n / 2]),
-    }
-}
-
 fn run_eval(inputs: &[PathBuf], closure: &[PathBuf]) -> ExitCode {
     use embusen::eval::{Accuracy, evaluate_groundtruth, kata_closure_cm, motion_type};
     let methods = [Method::Paper(PaperParams::default()), Method::default()];
@@ -166,12 +158,12 @@ fn run_eval(inputs: &[PathBuf], closure: &[PathBuf]) -> ExitCode {
     for path in expand(inputs) {
         let name = path.file_name().map_or(path.display().to_string(), |n| n.to_string_lossy().into_owned());
         let result = load(&path, None).and_then(|recording| match &recording.source {
-            embusen::recording::Source::Bvh(bvh) => {
+            embusen::io::recording::Source::Bvh(bvh) => {
                 let paper = evaluate_groundtruth(bvh, &name, &methods[0])?;
                 let contact = evaluate_groundtruth(bvh, &name, &methods[1])?;
                 Ok([paper, contact])
             }
-            embusen::recording::Source::Table(_) => {
+            embusen::io::recording::Source::Table(_) => {
                 Err(Error::whole(&name, "ground truth must be a BVH (its root channels are the truth)"))
             }
         });
@@ -210,9 +202,9 @@ fn run_eval(inputs: &[PathBuf], closure: &[PathBuf]) -> ExitCode {
     let moving = |a: &Accuracy| a.true_path_cm >= 50.0;
     let summary = |label: &str, selected: Vec<&[Accuracy; 2]>| {
         let col = |m: usize, f: fn(&Accuracy) -> f64, only_moving: bool| {
-            let mut v: Vec<f64> =
+            let v: Vec<f64> =
                 selected.iter().map(|r| &r[m]).filter(|a| !only_moving || moving(a)).map(f).collect();
-            median(&mut v)
+            median(&v)
         };
         println!(
             "{:<36} {:>8} | {:>8.2} {:>8.2} | {:>8.2} {:>8.2} | {:>6.3} {:>6.3} | {:>6.2} {:>6.2} {:>6.2} | {:>6.1} {:>6.1}",
@@ -423,7 +415,8 @@ fn describe(recording: &Recording, t: &Translated) -> String {
     let percent = |count: usize| 100.0 * count as f64 / frames as f64;
     let decided = match &t.decisions {
         Decisions::Paper(p) => {
-            let pinned = |pass: &[Option<embusen::feet::Foot>]| pass.iter().filter(|p| p.is_some()).count();
+            let pinned =
+                |pass: &[Option<embusen::body::feet::Foot>]| pass.iter().filter(|p| p.is_some()).count();
             format!(
                 "method paper: pinned in {:.0}% (pass 1) and {:.0}% (pass 2) of frames",
                 percent(pinned(&p.pass1_pinned)),

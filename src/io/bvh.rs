@@ -1,7 +1,7 @@
 //! BVH reading and writing.
 //!
 //! The reader accepts the files people really have: any channel order, 0, 3 or
-//! 6 channels on any joint (see [`crate::kinematics`] for the position-channel
+//! 6 channels on any joint (see [`crate::body::kinematics`] for the position-channel
 //! rule), `End Site` blocks and leaf joints without one, CRLF, tabs, blank
 //! lines, scientific notation, `Frame Time: 0`, and a `Frames:` count that
 //! disagrees with the rows that follow. Every error names file:line:column and
@@ -9,8 +9,8 @@
 
 use glam::DVec3;
 
+use crate::body::skeleton::{Channel, Motion, Skeleton};
 use crate::error::{Error, line_column_of};
-use crate::skeleton::{Channel, Motion, Skeleton};
 
 /// The frame rate used when a file says `Frame Time: 0` and the user gave none.
 pub const DEFAULT_FPS: f64 = 100.0;

@@ -6,14 +6,17 @@
 //! first-frame value — estimating it again, and comparing the hips with the
 //! original recording's.
 
+pub mod metrics;
+
 use glam::DVec3;
 
-use crate::bvh::Bvh;
+use crate::body::feet::{Feet, Foot, foot_points};
+use crate::body::skeleton::Poses;
 use crate::error::Error;
-use crate::feet::{Feet, Foot, foot_points};
-use crate::metrics::{floor_closure_cm, floor_path_cm};
-use crate::recording::{FeetChoice, Method, Recording, Translated};
-use crate::skeleton::Poses;
+use crate::eval::metrics::{floor_closure_cm, floor_path_cm};
+use crate::io::bvh::Bvh;
+use crate::io::recording::{FeetChoice, Recording};
+use crate::translate::{Method, Translated};
 
 /// A foot is planted in the truth when its lowest point is within this
 /// height of the foot's lowest level in the recording and one of its joints
@@ -151,13 +154,13 @@ pub fn kata_closure_cm(recording: &Recording, method: &Method) -> Result<f64, Er
     let feet = recording.feet(&FeetChoice::default())?;
     let hips = recording.hips(feet);
     let stripped = match &recording.source {
-        crate::recording::Source::Bvh(bvh) => {
+        crate::io::recording::Source::Bvh(bvh) => {
             let mut r = Recording::from_bvh(freeze_translation(bvh, hips), &recording.name);
             r.accel = recording.accel.clone();
             r
         }
         // A table stores global positions: strip the hips' motion from every joint.
-        crate::recording::Source::Table(_) => {
+        crate::io::recording::Source::Table(_) => {
             let start = recording.poses.at(0, hips);
             let shift: Vec<DVec3> =
                 (0..recording.frame_count()).map(|f| start - recording.poses.at(f, hips)).collect();
@@ -183,7 +186,7 @@ mod tests {
 
     #[test]
     fn the_demo_is_recovered_better_by_contact_than_by_paper() {
-        let demo = crate::demo::demo();
+        let demo = crate::synth::demo::demo();
         let bvh = Bvh { skeleton: demo.skeleton.clone(), motion: demo.motion.clone(), warnings: Vec::new() };
         let paper = evaluate_groundtruth(&bvh, "demo", &Method::Paper(Default::default())).unwrap();
         let contact = evaluate_groundtruth(&bvh, "demo", &Method::default()).unwrap();

@@ -8,7 +8,7 @@
 //! 1. **A foot on the floor does not slide.** The foot rolls — lands on the
 //!    heel, stands flat, pushes off over the toes — and the point it rolls
 //!    over stays put. The candidates are the points of the sole
-//!    ([`crate::sole`]): a virtual heel, the sole under the ankle, the sole
+//!    ([`crate::body::sole`]): a virtual heel, the sole under the ankle, the sole
 //!    under the toes, at a depth below the joints that is estimated per
 //!    recording.
 //! 2. **The floor pushes the centre of mass.** Of all the ways to pin one
@@ -38,10 +38,12 @@
 
 use glam::DVec3;
 
-use crate::feet::{Feet, Foot, above_hips, foot_points};
-use crate::signals::{STANDARD_GRAVITY_CM_PER_S2, median, smooth_paths};
-use crate::skeleton::Poses;
-use crate::sole::{Sole, SolePart, foot_shapes};
+use crate::body::feet::{Feet, Foot, above_hips, foot_points};
+use crate::body::skeleton::Poses;
+use crate::body::sole::{Sole, SolePart, foot_shapes};
+use crate::signal::accel::STANDARD_GRAVITY_CM_PER_S2;
+use crate::signal::smoothing::smooth_paths;
+use crate::signal::stats::upper_median;
 
 /// Parameters of the contact method. The defaults are physical quantities,
 /// not fitted to any recording.
@@ -63,7 +65,7 @@ pub struct ContactParams {
     /// noise never look like a jump.
     pub flight_margin_cm: f64,
     /// How far the sole lies below the foot's lowest joint when the foot
-    /// stands flat ([`crate::sole`]); `None`: estimated from the recording,
+    /// stands flat ([`crate::body::sole`]); `None`: estimated from the recording,
     /// as the depth among [`SOLE_DEPTHS_CM`] whose best contacts fit the
     /// physics best.
     pub sole_depth_cm: Option<f64>,
@@ -363,7 +365,7 @@ pub fn contact_translation(
     // sit in most frames, so a vendor's roughly right vertical is kept and a
     // frozen one gets a sensible level. Frame 0 alone would let one
     // mis-tracked frame shift the whole recording.
-    let ground_cm = median(&(0..n).map(|f| poses.at(f, hips).y - standing[f]).collect::<Vec<_>>());
+    let ground_cm = upper_median(&(0..n).map(|f| poses.at(f, hips).y - standing[f]).collect::<Vec<_>>());
     let shift_cm = (0..n)
         .map(|f| {
             let hips_now = poses.at(f, hips);

@@ -23,7 +23,7 @@
 
 use glam::DVec3;
 
-use crate::feet::Foot;
+use crate::body::feet::Foot;
 
 // --- What is plotted ---------------------------------------------------------
 
@@ -1603,8 +1603,9 @@ mod tests {
     }
 
     fn demo_data() -> PlotData {
-        let session = crate::session::Session::open(crate::demo::demo().recording(), Default::default())
-            .expect("the demo opens");
+        let session =
+            crate::app::session::Session::open(crate::synth::demo::demo().recording(), Default::default())
+                .expect("the demo opens");
         session.plot_data
     }
 

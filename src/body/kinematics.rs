@@ -11,7 +11,7 @@
 
 use glam::{DMat3, DVec3};
 
-use crate::skeleton::{Channel, Motion, Poses, Skeleton};
+use crate::body::skeleton::{Channel, Motion, Poses, Skeleton};
 
 /// The rotation of one joint in one frame, from its rotation channels.
 pub fn local_rotation(channels: &[Channel], values: &[f64]) -> DMat3 {

@@ -17,12 +17,12 @@
 
 use glam::{DMat3, DVec2, DVec3};
 
-use crate::bvh::Bvh;
-use crate::kinematics::forward_kinematics;
-use crate::recording::Recording;
-use crate::signals::STANDARD_GRAVITY_CM_PER_S2;
-use crate::skeleton::{Channel, Motion, Skeleton};
-use crate::table::Accelerations;
+use crate::body::kinematics::forward_kinematics;
+use crate::body::skeleton::{Channel, Motion, Skeleton};
+use crate::io::bvh::Bvh;
+use crate::io::recording::Recording;
+use crate::io::table::Accelerations;
+use crate::signal::accel::STANDARD_GRAVITY_CM_PER_S2;
 
 /// The name the app shows for the demo recording.
 pub const DEMO_NAME: &str = "demo (synthetic kata)";
@@ -528,7 +528,7 @@ impl XorShift64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kinematics::local_rotation;
+    use crate::body::kinematics::local_rotation;
 
     #[test]
     fn zyx_degrees_round_trips_through_the_channels() {

@@ -17,13 +17,14 @@
 //! the ankle. How far the sole lies below the foot's lowest joint when it
 //! stands flat (`sole_depth_cm`) depends on the skeleton (a toe end site is on
 //! the skin, a ball-of-foot joint centre 2–3 cm above it) and on the shoes;
-//! [`crate::contact`] estimates it per recording.
+//! [`crate::translate::contact`] estimates it per recording.
 
 use glam::DVec3;
 
-use crate::feet::foot_points;
-use crate::signals::{median, smooth_paths};
-use crate::skeleton::Poses;
+use crate::body::feet::foot_points;
+use crate::body::skeleton::Poses;
+use crate::signal::smoothing::smooth_paths;
+use crate::signal::stats::upper_median;
 
 /// Which part of the foot a sole point is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -130,7 +131,7 @@ fn floor_offsets(points: &[DVec3], count: usize, frames: &[usize]) -> Vec<f64> {
                     frame[k].y - frame.iter().map(|p| p.y).fold(f64::INFINITY, f64::min)
                 })
                 .collect();
-            median(&heights)
+            upper_median(&heights)
         })
         .collect()
 }
@@ -231,7 +232,7 @@ impl FootShape {
             .map(|&j| parents.get(j).copied().flatten().and_then(|p| joints.iter().position(|&x| x == p)))
             .collect();
         let length = |k: usize, from: usize| {
-            median(&standing.iter().map(|&f| (p(f, k) - p(f, from)).length()).collect::<Vec<_>>())
+            upper_median(&standing.iter().map(|&f| (p(f, k) - p(f, from)).length()).collect::<Vec<_>>())
         };
         let toes: Vec<usize> =
             (1..count).filter(|&k| parent[k].is_some_and(|from| length(k, from) >= MIN_BONE_CM)).collect();
@@ -265,7 +266,9 @@ impl FootShape {
             let dip = |v: DVec3| libm::asin((-v.y / v.length()).clamp(-1.0, 1.0));
             let flat_dips: Vec<f64> = bones
                 .iter()
-                .map(|&(a, b)| median(&standing.iter().map(|&f| dip(p(f, b) - p(f, a))).collect::<Vec<_>>()))
+                .map(|&(a, b)| {
+                    upper_median(&standing.iter().map(|&f| dip(p(f, b) - p(f, a))).collect::<Vec<_>>())
+                })
                 .collect();
             let mut headings = vec![DVec3::Z; bones.len()];
             let mut now = vec![(DVec3::Z, -DVec3::Y); bones.len()];

@@ -254,7 +254,7 @@ mod tests {
 
     #[test]
     fn inferred_bones_of_the_demo_match_its_hierarchy() {
-        let demo = crate::demo::demo();
+        let demo = crate::synth::demo::demo();
         let recording = demo.recording();
         let inferred = infer_parents(&recording.poses);
         // As undirected edges the trees agree (the root of the search is the hips).

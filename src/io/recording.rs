@@ -5,15 +5,13 @@
 
 use glam::DVec3;
 
-use crate::bvh::{Bvh, ReadOptions};
-use crate::contact::{ContactParams, ContactResult, contact_translation};
+use crate::body::feet::{Feet, Foot, hips_joint, resolve_feet};
+use crate::body::kinematics::forward_kinematics;
+use crate::body::skeleton::{Poses, infer_parents};
 use crate::error::Error;
-use crate::feet::{Feet, Foot, hips_joint, resolve_feet};
-use crate::kinematics::forward_kinematics;
-use crate::paper::{PaperParams, PaperResult, paper_translation};
-use crate::signals::{kinematic_accel_magnitude_g, magnitudes};
-use crate::skeleton::{Poses, infer_parents};
-use crate::table::{Accelerations, Table};
+use crate::io::bvh::{Bvh, ReadOptions};
+use crate::io::table::{Accelerations, Table};
+use crate::signal::accel::{kinematic_accel_magnitude_g, magnitudes};
 
 /// Where a recording came from, kept so the result is written in the same form.
 #[derive(Clone, Debug)]
@@ -70,81 +68,6 @@ pub struct FeetChoice {
     pub right: Option<String>,
 }
 
-/// A translation method and its parameters.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Method {
-    /// Hachaj & Ogiela's method, as their R code computes it.
-    Paper(PaperParams),
-    /// embusen's contact method (see [`crate::contact`]).
-    Contact(ContactParams),
-}
-
-impl Default for Method {
-    fn default() -> Self {
-        Method::Contact(ContactParams::default())
-    }
-}
-
-impl Method {
-    /// `paper` or `contact`.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Method::Paper(_) => "paper",
-            Method::Contact(_) => "contact",
-        }
-    }
-}
-
-/// What a method decided, frame by frame, for plots and summaries.
-#[derive(Clone, Debug)]
-pub enum Decisions {
-    Paper(PaperResult),
-    Contact(ContactResult),
-}
-
-impl Decisions {
-    pub fn warnings(&self) -> &[String] {
-        match self {
-            Decisions::Paper(p) => &p.warnings,
-            Decisions::Contact(c) => &c.warnings,
-        }
-    }
-}
-
-/// The outcome of a translation method on a recording.
-#[derive(Clone, Debug)]
-pub struct Translated {
-    /// Added to every joint of frame `f` (cm).
-    pub shift_cm: Vec<DVec3>,
-    /// The corrected global positions.
-    pub poses: Poses,
-    pub feet: Feet,
-    /// The hips joint for these feet ([`Recording::hips`]): its path is the
-    /// floor path shown and measured.
-    pub hips: usize,
-    pub accel_source: AccelSource,
-    /// What the method decided, frame by frame, for plots.
-    pub decisions: Decisions,
-}
-
-impl Translated {
-    /// The paper method's decisions, when it was the method.
-    pub fn paper(&self) -> Option<&PaperResult> {
-        match &self.decisions {
-            Decisions::Paper(p) => Some(p),
-            Decisions::Contact(_) => None,
-        }
-    }
-
-    /// The contact method's decisions, when it was the method.
-    pub fn contact(&self) -> Option<&ContactResult> {
-        match &self.decisions {
-            Decisions::Contact(c) => Some(c),
-            Decisions::Paper(_) => None,
-        }
-    }
-}
-
 /// True when the bytes look like a BVH file rather than a CSV table.
 pub fn looks_like_bvh(bytes: &[u8]) -> bool {
     let start = bytes.iter().position(|b| !b.is_ascii_whitespace()).unwrap_or(bytes.len());
@@ -189,9 +112,9 @@ impl Recording {
             (None, None) => {
                 warnings.push(format!(
                     "no usable Time column; assuming {} Hz (set it with --fps)",
-                    crate::bvh::DEFAULT_FPS
+                    crate::io::bvh::DEFAULT_FPS
                 ));
-                crate::bvh::DEFAULT_FPS
+                crate::io::bvh::DEFAULT_FPS
             }
         };
         let accel = Accelerations::from_table(&table);
@@ -278,54 +201,6 @@ impl Recording {
             ],
             AccelSource::Kinematic,
         )
-    }
-
-    /// Runs the paper's method.
-    pub fn translate_paper(&self, feet: &FeetChoice, params: &PaperParams) -> Result<Translated, Error> {
-        let feet = self.feet(feet)?;
-        let ([left, right], accel_source) = self.foot_accel_g(feet);
-        let paper = paper_translation(&self.poses, feet, [&left, &right], self.fps, params)
-            .map_err(|message| Error::whole(&self.name, message))?;
-        Ok(Translated {
-            poses: self.poses.shifted(&paper.shift_cm),
-            shift_cm: paper.shift_cm.clone(),
-            feet,
-            hips: self.hips(feet),
-            accel_source,
-            decisions: Decisions::Paper(paper),
-        })
-    }
-
-    /// Runs the contact method. It needs no accelerations; the suit's foot
-    /// accelerometers, when attached, help it choose between two low feet.
-    pub fn translate_contact(&self, feet: &FeetChoice, params: &ContactParams) -> Result<Translated, Error> {
-        let feet = self.feet(feet)?;
-        let hips = self.hips(feet);
-        // Without accelerometers the method needs no accelerations at all.
-        let (accel, accel_source) = match self.foot_accelerometers_g(feet) {
-            Some((a, source)) => (Some(a), source),
-            None => (None, AccelSource::Kinematic),
-        };
-        let accel_refs = accel.as_ref().map(|[l, r]| [l.as_slice(), r.as_slice()]);
-        let contact =
-            contact_translation(&self.poses, &self.parents, feet, hips, accel_refs, self.fps, params)
-                .map_err(|message| Error::whole(&self.name, message))?;
-        Ok(Translated {
-            poses: self.poses.shifted(&contact.shift_cm),
-            shift_cm: contact.shift_cm.clone(),
-            feet,
-            hips,
-            accel_source,
-            decisions: Decisions::Contact(contact),
-        })
-    }
-
-    /// Runs `method`.
-    pub fn translate(&self, feet: &FeetChoice, method: &Method) -> Result<Translated, Error> {
-        match method {
-            Method::Paper(params) => self.translate_paper(feet, params),
-            Method::Contact(params) => self.translate_contact(feet, params),
-        }
     }
 
     /// The recording with every frame moved by `shift_cm`, in its own format

@@ -2,12 +2,13 @@
 //! plus everything derived from them for display and export. Browser-free, so
 //! the wasm player stays a thin shell over it and tests can drive it natively.
 
-use crate::contact::{ContactParams, Support};
+use crate::app::plot::{PlotData, Stance, StanceReason};
+use crate::body::feet::Foot;
 use crate::error::Error;
-use crate::feet::Foot;
-use crate::paper::{PaperParams, Smoothing};
-use crate::plot::{PlotData, Stance, StanceReason};
-use crate::recording::{Decisions, FeetChoice, Method, Recording, Translated};
+use crate::io::recording::{FeetChoice, Recording};
+use crate::translate::contact::{ContactParams, Support};
+use crate::translate::paper::{PaperParams, Smoothing};
+use crate::translate::{Decisions, Method, Translated};
 
 /// The user's method settings. Both methods keep their parameters, so
 /// switching back and forth loses nothing.
@@ -98,7 +99,7 @@ fn translate(recording: &Recording, settings: &Settings) -> Result<Translated, E
 /// What the plots show: (a) the signal that chose the foot and (e) the
 /// decisions come from the method; (b)–(d) are the same for both.
 pub fn plot_data(recording: &Recording, t: &Translated, settings: &Settings) -> PlotData {
-    let heights = |poses: &crate::skeleton::Poses, foot: Foot| -> Vec<f64> {
+    let heights = |poses: &crate::body::skeleton::Poses, foot: Foot| -> Vec<f64> {
         poses.trajectory(t.feet.joint(foot)).iter().map(|p| p.y).collect()
     };
     let (foot_signal, foot_signal_label, stance) = match &t.decisions {
@@ -160,7 +161,7 @@ mod tests {
 
     #[test]
     fn bad_settings_keep_the_previous_result() {
-        let mut session = Session::open(crate::demo::demo().recording(), Settings::default()).unwrap();
+        let mut session = Session::open(crate::synth::demo::demo().recording(), Settings::default()).unwrap();
         let before = session.translated.shift_cm.clone();
         let mut bad = Settings::default();
         bad.feet.left = Some("NoSuchJoint".to_string());

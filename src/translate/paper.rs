@@ -24,9 +24,9 @@
 
 use glam::DVec3;
 
-use crate::feet::{Feet, Foot};
-use crate::signals::{smooth_gaussian_clean, smooth_r_gaussian};
-use crate::skeleton::Poses;
+use crate::body::feet::{Feet, Foot};
+use crate::body::skeleton::Poses;
+use crate::signal::smoothing::{smooth_gaussian_clean, smooth_r_gaussian};
 
 /// How the foot signals are smoothed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]

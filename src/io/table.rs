@@ -19,8 +19,8 @@ use std::fmt::Write as _;
 
 use glam::DVec3;
 
+use crate::body::skeleton::Poses;
 use crate::error::{Error, line_column_of};
-use crate::skeleton::Poses;
 
 /// A parsed table: the named numeric columns, row by row.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -1,0 +1,8 @@
+//! What the app shows, still browser-free so native tests drive it: the open
+//! [`session::Session`] (a recording, its settings and result), the plots laid
+//! out as shapes, and the one colour theme of the plots and the 3D view. May
+//! import everything below it (`translate`, `io`, `body`, `synth`, `signal`);
+//! only `web` and the CLI import it.
+
+pub mod plot;
+pub mod session;

@@ -1,0 +1,144 @@
+//! Translation methods: where the body is on the floor, frame by frame, from
+//! its pose. [`paper`] is Hachaj & Ogiela's heuristic exactly as their R code
+//! computes it; [`contact`] is embusen's own. Both return per-frame shifts
+//! added to every joint; [`Method`] chooses one and [`Translated`] is its
+//! outcome. May import `io`, `body`, `signal`; nothing above.
+
+pub mod contact;
+pub mod paper;
+
+use glam::DVec3;
+
+use crate::body::feet::Feet;
+use crate::body::skeleton::Poses;
+use crate::error::Error;
+use crate::io::recording::{AccelSource, FeetChoice, Recording};
+use contact::{ContactParams, ContactResult, contact_translation};
+use paper::{PaperParams, PaperResult, paper_translation};
+
+/// A translation method and its parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Method {
+    /// Hachaj & Ogiela's method, as their R code computes it.
+    Paper(PaperParams),
+    /// embusen's contact method (see [`crate::translate::contact`]).
+    Contact(ContactParams),
+}
+
+impl Default for Method {
+    fn default() -> Self {
+        Method::Contact(ContactParams::default())
+    }
+}
+
+impl Method {
+    /// `paper` or `contact`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::Paper(_) => "paper",
+            Method::Contact(_) => "contact",
+        }
+    }
+}
+
+/// What a method decided, frame by frame, for plots and summaries.
+#[derive(Clone, Debug)]
+pub enum Decisions {
+    Paper(PaperResult),
+    Contact(ContactResult),
+}
+
+impl Decisions {
+    pub fn warnings(&self) -> &[String] {
+        match self {
+            Decisions::Paper(p) => &p.warnings,
+            Decisions::Contact(c) => &c.warnings,
+        }
+    }
+}
+
+/// The outcome of a translation method on a recording.
+#[derive(Clone, Debug)]
+pub struct Translated {
+    /// Added to every joint of frame `f` (cm).
+    pub shift_cm: Vec<DVec3>,
+    /// The corrected global positions.
+    pub poses: Poses,
+    pub feet: Feet,
+    /// The hips joint for these feet ([`Recording::hips`]): its path is the
+    /// floor path shown and measured.
+    pub hips: usize,
+    pub accel_source: AccelSource,
+    /// What the method decided, frame by frame, for plots.
+    pub decisions: Decisions,
+}
+
+impl Translated {
+    /// The paper method's decisions, when it was the method.
+    pub fn paper(&self) -> Option<&PaperResult> {
+        match &self.decisions {
+            Decisions::Paper(p) => Some(p),
+            Decisions::Contact(_) => None,
+        }
+    }
+
+    /// The contact method's decisions, when it was the method.
+    pub fn contact(&self) -> Option<&ContactResult> {
+        match &self.decisions {
+            Decisions::Contact(c) => Some(c),
+            Decisions::Paper(_) => None,
+        }
+    }
+}
+
+// The methods extend `Recording` here, where they live, so that `io` knows
+// nothing of them.
+impl Recording {
+    /// Runs the paper's method.
+    pub fn translate_paper(&self, feet: &FeetChoice, params: &PaperParams) -> Result<Translated, Error> {
+        let feet = self.feet(feet)?;
+        let ([left, right], accel_source) = self.foot_accel_g(feet);
+        let paper = paper_translation(&self.poses, feet, [&left, &right], self.fps, params)
+            .map_err(|message| Error::whole(&self.name, message))?;
+        Ok(Translated {
+            poses: self.poses.shifted(&paper.shift_cm),
+            shift_cm: paper.shift_cm.clone(),
+            feet,
+            hips: self.hips(feet),
+            accel_source,
+            decisions: Decisions::Paper(paper),
+        })
+    }
+
+    /// Runs the contact method. It needs no accelerations; the suit's foot
+    /// accelerometers, when attached, help it choose between two low feet.
+    pub fn translate_contact(&self, feet: &FeetChoice, params: &ContactParams) -> Result<Translated, Error> {
+        let feet = self.feet(feet)?;
+        let hips = self.hips(feet);
+        // Without accelerometers the method needs no accelerations at all.
+        let (accel, accel_source) = match self.foot_accelerometers_g(feet) {
+            Some((a, source)) => (Some(a), source),
+            None => (None, AccelSource::Kinematic),
+        };
+        let accel_refs = accel.as_ref().map(|[l, r]| [l.as_slice(), r.as_slice()]);
+        let contact =
+            contact_translation(&self.poses, &self.parents, feet, hips, accel_refs, self.fps, params)
+                .map_err(|message| Error::whole(&self.name, message))?;
+        Ok(Translated {
+            poses: self.poses.shifted(&contact.shift_cm),
+            shift_cm: contact.shift_cm.clone(),
+            feet,
+            hips,
+            accel_source,
+            decisions: Decisions::Contact(contact),
+        })
+    }
+
+    /// Runs `method`.
+    pub fn translate(&self, feet: &FeetChoice, method: &Method) -> Result<Translated, Error> {
+        match method {
+            Method::Paper(params) => self.translate_paper(feet, params),
+            Method::Contact(params) => self.translate_contact(feet, params),
+        }
+    }
+}
