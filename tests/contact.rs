@@ -3,7 +3,7 @@
 //! joints on top of each other, one frame or none, at rates whose grid
 //! step is longer than the recording.
 
-use embusen::body::feet::{Feet, hips_joint};
+use embusen::body::feet::{FootJoints, PerFoot, hips_joint};
 use embusen::body::skeleton::Poses;
 use embusen::translate::contact::{ContactParams, contact_translation};
 use embusen::translate::paper::{PaperParams, paper_translation};
@@ -38,18 +38,18 @@ proptest! {
         fps in prop_oneof![Just(30.0), Just(60.0), Just(100.0), Just(1.0e4), 1.0f64..1000.0],
     ) {
         let n = poses.joint_count;
-        let feet = Feet { left: left % n, right: right % n };
+        let feet = FootJoints { left: left % n, right: right % n };
         let hips = hips_joint(&parents, feet);
         let frames = poses.frame_count();
         let accel = vec![1.0; frames];
-        let accel = with_accel.then_some([accel.as_slice(), accel.as_slice()]);
+        let accel = with_accel.then_some(PerFoot::new(accel.as_slice(), accel.as_slice()));
         let params = ContactParams { sole_depth_cm: depth, ..ContactParams::default() };
         if let Ok(result) = contact_translation(&poses, &parents, feet, hips, accel, fps, &params) {
             prop_assert_eq!(result.shift_cm.len(), frames);
             prop_assert!(result.shift_cm.iter().all(|s| s.is_finite()), "{:?}", result.shift_cm);
         }
         let ones = vec![1.0; frames];
-        if let Ok(result) = paper_translation(&poses, feet, [&ones, &ones], fps, &PaperParams::default()) {
+        if let Ok(result) = paper_translation(&poses, feet, PerFoot::new(&ones[..], &ones[..]), fps, &PaperParams::default()) {
             prop_assert_eq!(result.shift_cm.len(), frames);
         }
     }

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use embusen::body::feet::{Feet, Foot};
+use embusen::body::feet::{Foot, FootJoints, PerFoot};
 use embusen::io::table::{Accelerations, Table};
 use embusen::signal::accel::magnitudes;
 use embusen::translate::paper::{PaperParams, PaperResult, Smoothing, paper_translation};
@@ -27,15 +27,15 @@ fn joint(table: &Table, name: &str) -> usize {
 
 /// Runs the paper method on the table the way RMoCap does.
 fn run(table: &Table, smoothing: Smoothing) -> PaperResult {
-    let feet = Feet { left: joint(table, "LeftFoot"), right: joint(table, "RightFoot") };
+    let feet = FootJoints { left: joint(table, "LeftFoot"), right: joint(table, "RightFoot") };
     let left = magnitudes(&table.accel_g("LeftFoot").expect("LeftFoot.a*"));
     let right = magnitudes(&table.accel_g("RightFoot").expect("RightFoot.a*"));
     let fps = 1.0 / table.frame_time_s().expect("a Time column");
     let params = PaperParams { smoothing, ..PaperParams::default() };
     let poses = table.poses();
     let start = Instant::now();
-    let result =
-        paper_translation(&poses, feet, [&left, &right], fps, &params).unwrap_or_else(|e| panic!("{e}"));
+    let result = paper_translation(&poses, feet, PerFoot::new(&left[..], &right[..]), fps, &params)
+        .unwrap_or_else(|e| panic!("{e}"));
     eprintln!(
         "paper_translation ({smoothing:?}) on {} frames: {:.3} ms",
         poses.frame_count(),
@@ -108,7 +108,7 @@ fn clean_mode_differs_mildly_and_pins_feet_at_the_ends() {
         |range: std::ops::Range<usize>| clean.pass1_pinned[range].iter().filter(|p| p.is_some()).count();
     assert!(pinned(1..half_second) > half_second / 2, "{}", pinned(1..half_second));
     assert!(pinned(n - half_second..n) > half_second / 2, "{}", pinned(n - half_second..n));
-    assert!(clean.accel_smoothed_g.iter().all(|s| s.iter().all(|&v| v > 0.5)));
+    assert!(clean.accel_smoothed_g.iter().all(|(_, s)| s.iter().all(|&v| v > 0.5)));
 
     // The hips path: the two modes agree closely in the middle of the kata.
     let hips = joint(&input, "Hips");

@@ -100,11 +100,11 @@ fn translate(recording: &Recording, settings: &Settings) -> Result<Translated, E
 /// decisions come from the method; (b)–(d) are the same for both.
 pub fn plot_data(recording: &Recording, t: &Translated, settings: &Settings) -> PlotData {
     let heights = |poses: &crate::body::skeleton::Poses, foot: Foot| -> Vec<f64> {
-        poses.trajectory(t.feet.joint(foot)).iter().map(|p| p.y).collect()
+        poses.trajectory(t.feet[foot]).iter().map(|p| p.y).collect()
     };
     let (foot_signal, foot_signal_label, stance) = match &t.decisions {
         Decisions::Paper(paper) => (
-            paper.accel_smoothed_g.clone(),
+            [paper.accel_smoothed_g.left.clone(), paper.accel_smoothed_g.right.clone()],
             match settings.paper.smoothing {
                 Smoothing::Faithful => "smoothed acceleration (g), R smoother".to_string(),
                 Smoothing::Clean => "smoothed acceleration (g)".to_string(),

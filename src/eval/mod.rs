@@ -10,7 +10,7 @@ pub mod metrics;
 
 use glam::DVec3;
 
-use crate::body::feet::{Feet, Foot, foot_points};
+use crate::body::feet::{Foot, FootJoints, foot_points};
 use crate::body::skeleton::Poses;
 use crate::error::Error;
 use crate::eval::metrics::{floor_closure_cm, floor_path_cm};
@@ -77,12 +77,12 @@ pub fn motion_type(name: &str) -> String {
 fn truth_still_joints(
     truth: &Poses,
     parents: &[Option<usize>],
-    feet: Feet,
+    feet: FootJoints,
     fps: f64,
 ) -> [Vec<Option<usize>>; 2] {
     let n = truth.frame_count();
     [Foot::Left, Foot::Right].map(|foot| {
-        let points = foot_points(parents, feet.joint(foot));
+        let points = foot_points(parents, feet[foot]);
         let lowest = |f: usize| points.iter().map(|&j| truth.at(f, j).y).fold(f64::INFINITY, f64::min);
         let floor = (0..n).map(lowest).fold(f64::INFINITY, f64::min);
         let speed = |f: usize, j: usize| (truth.at(f, j) - truth.at(f - 1, j)).with_y(0.0).length() * fps;

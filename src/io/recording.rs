@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use crate::body::feet::{Feet, Foot, hips_joint, resolve_feet};
+use crate::body::feet::{Foot, FootJoints, PerFoot, hips_joint, resolve_feet};
 use crate::body::kinematics::forward_kinematics;
 use crate::body::skeleton::{Poses, infer_parents};
 use crate::error::Error;
@@ -157,33 +157,33 @@ impl Recording {
     }
 
     /// The feet, detected or as chosen.
-    pub fn feet(&self, choice: &FeetChoice) -> Result<Feet, Error> {
+    pub fn feet(&self, choice: &FeetChoice) -> Result<FootJoints, Error> {
         resolve_feet(&self.joint_names, choice.left.as_deref(), choice.right.as_deref())
             .map_err(|message| Error::whole(&self.name, message))
     }
 
     /// The hips joint (see [`hips_joint`]), for these feet.
-    pub fn hips(&self, feet: Feet) -> usize {
+    pub fn hips(&self, feet: FootJoints) -> usize {
         hips_joint(&self.parents, feet)
     }
 
-    /// The feet's accelerometer magnitudes in g, `[left, right]`, when
-    /// sensors named like the foot joints were recorded.
-    pub fn foot_accelerometers_g(&self, feet: Feet) -> Option<([Vec<f64>; 2], AccelSource)> {
+    /// The feet's accelerometer magnitudes in g, when sensors named like the
+    /// foot joints were recorded.
+    pub fn foot_accelerometers_g(&self, feet: FootJoints) -> Option<(PerFoot<Vec<f64>>, AccelSource)> {
         let left_name = &self.joint_names[feet.left];
         let right_name = &self.joint_names[feet.right];
         let accel = self.accel.as_ref()?;
         let (l, r) = (accel.sensor(left_name)?, accel.sensor(right_name)?);
         Some((
-            [magnitudes(l), magnitudes(r)],
+            PerFoot::new(magnitudes(l), magnitudes(r)),
             AccelSource::Accelerometer { left: left_name.clone(), right: right_name.clone() },
         ))
     }
 
-    /// Acceleration magnitudes of the two feet in g, `[left, right]`: from the
+    /// Acceleration magnitudes of the two feet in g: from the
     /// accelerometers named like the foot joints when there are any, else from
     /// the kinematics.
-    pub fn foot_accel_g(&self, feet: Feet) -> ([Vec<f64>; 2], AccelSource) {
+    pub fn foot_accel_g(&self, feet: FootJoints) -> (PerFoot<Vec<f64>>, AccelSource) {
         if let Some(measured) = self.foot_accelerometers_g(feet) {
             return measured;
         }
@@ -191,14 +191,11 @@ impl Recording {
         // the kinematic acceleration reflects the legs only.
         let root = self.poses.trajectory(self.hips(feet));
         let relative = |foot: Foot| -> Vec<DVec3> {
-            let joint = feet.joint(foot);
+            let joint = feet[foot];
             (0..self.frame_count()).map(|f| self.poses.at(f, joint) - root[f]).collect()
         };
         (
-            [
-                kinematic_accel_magnitude_g(&relative(Foot::Left), self.fps),
-                kinematic_accel_magnitude_g(&relative(Foot::Right), self.fps),
-            ],
+            PerFoot::from_fn(|foot| kinematic_accel_magnitude_g(&relative(foot), self.fps)),
             AccelSource::Kinematic,
         )
     }

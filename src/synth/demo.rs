@@ -480,7 +480,7 @@ fn pose_frame(rig: &Rig, t: &Targets, values: &mut [f64]) -> DVec3 {
         let [thigh_world, shin_world] = leg_ik(hip, t.ankle_cm[foot], foot_world * DVec3::Z);
         set(thigh, zyx_degrees(pelvis.transpose() * thigh_world));
         set(leg, zyx_degrees(thigh_world.transpose() * shin_world));
-        // Feet stay flat (only yawed), so the toe rests on the floor.
+        // FootJoints stay flat (only yawed), so the toe rests on the floor.
         set(ankle, zyx_degrees(shin_world.transpose() * foot_world));
         let [arm, forearm] = rig.arms[foot];
         let [upper_zyx, fore_zyx] = left_arm_zyx_degrees(t.punch[foot]);

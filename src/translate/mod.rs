@@ -9,7 +9,7 @@ pub mod paper;
 
 use glam::DVec3;
 
-use crate::body::feet::Feet;
+use crate::body::feet::FootJoints;
 use crate::body::skeleton::Poses;
 use crate::error::Error;
 use crate::io::recording::{AccelSource, FeetChoice, Recording};
@@ -64,7 +64,7 @@ pub struct Translated {
     pub shift_cm: Vec<DVec3>,
     /// The corrected global positions.
     pub poses: Poses,
-    pub feet: Feet,
+    pub feet: FootJoints,
     /// The hips joint for these feet ([`Recording::hips`]): its path is the
     /// floor path shown and measured.
     pub hips: usize,
@@ -97,9 +97,10 @@ impl Recording {
     /// Runs the paper's method.
     pub fn translate_paper(&self, feet: &FeetChoice, params: &PaperParams) -> Result<Translated, Error> {
         let feet = self.feet(feet)?;
-        let ([left, right], accel_source) = self.foot_accel_g(feet);
-        let paper = paper_translation(&self.poses, feet, [&left, &right], self.fps, params)
-            .map_err(|message| Error::whole(&self.name, message))?;
+        let (accel, accel_source) = self.foot_accel_g(feet);
+        let paper =
+            paper_translation(&self.poses, feet, accel.as_ref().map(|a| a.as_slice()), self.fps, params)
+                .map_err(|message| Error::whole(&self.name, message))?;
         Ok(Translated {
             poses: self.poses.shifted(&paper.shift_cm),
             shift_cm: paper.shift_cm.clone(),
@@ -120,7 +121,7 @@ impl Recording {
             Some((a, source)) => (Some(a), source),
             None => (None, AccelSource::Kinematic),
         };
-        let accel_refs = accel.as_ref().map(|[l, r]| [l.as_slice(), r.as_slice()]);
+        let accel_refs = accel.as_ref().map(|a| a.as_ref().map(|a| a.as_slice()));
         let contact =
             contact_translation(&self.poses, &self.parents, feet, hips, accel_refs, self.fps, params)
                 .map_err(|message| Error::whole(&self.name, message))?;

@@ -24,7 +24,7 @@
 
 use glam::DVec3;
 
-use crate::body::feet::{Feet, Foot};
+use crate::body::feet::{Foot, FootJoints, PerFoot};
 use crate::body::skeleton::Poses;
 use crate::signal::smoothing::{smooth_gaussian_clean, smooth_r_gaussian};
 
@@ -69,16 +69,16 @@ impl Default for PaperParams {
     }
 }
 
-/// What [`paper_translation`] computed. Pairs are `[left, right]`; per-frame
-/// vectors have one entry per frame.
+/// What [`paper_translation`] computed. Per-frame vectors have one entry per
+/// frame.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct PaperResult {
     /// The translation to add to every joint of each frame (all three passes).
     pub shift_cm: Vec<DVec3>,
     /// Smoothed accelerometer magnitudes of the feet (pass 1's signal).
-    pub accel_smoothed_g: [Vec<f64>; 2],
+    pub accel_smoothed_g: PerFoot<Vec<f64>>,
     /// Smoothed foot heights after pass 1 (the signal of passes 2 and 3).
-    pub heights_smoothed_cm: [Vec<f64>; 2],
+    pub heights_smoothed_cm: PerFoot<Vec<f64>>,
     /// `pass1_pinned[f]`: the foot held still over the transition from frame
     /// `f - 1` to `f` by pass 1 (`None` for frame 0 and unpinned transitions).
     pub pass1_pinned: Vec<Option<Foot>>,
@@ -96,7 +96,7 @@ pub struct PaperResult {
 
 /// Hachaj & Ogiela's translation (see the module documentation) of `poses`,
 /// whose feet are `feet`, from the accelerometer magnitudes of the feet
-/// `foot_accel_g = [left, right]` (in g, one per frame) recorded at `fps`.
+/// `foot_accel_g` (in g, one per frame) recorded at `fps`.
 ///
 /// In `Faithful` mode the window is `round(window_s · fps)` frames, passed to
 /// R's smoother as the fraction `window / frames` as RMoCap does (so the
@@ -108,15 +108,15 @@ pub struct PaperResult {
 /// than the recording is shortened to half of it, with a warning.
 pub fn paper_translation(
     poses: &Poses,
-    feet: Feet,
-    foot_accel_g: [&[f64]; 2],
+    feet: FootJoints,
+    foot_accel_g: PerFoot<&[f64]>,
     fps: f64,
     params: &PaperParams,
 ) -> Result<PaperResult, String> {
     let n = poses.frame_count();
     check_inputs(poses, feet, foot_accel_g, fps, params)?;
-    let paths = [poses.trajectory(feet.left), poses.trajectory(feet.right)];
-    if let Some(f) = (0..n).find(|&f| !(paths[0][f].is_finite() && paths[1][f].is_finite())) {
+    let paths = feet.map(|joint| poses.trajectory(joint));
+    if let Some(f) = (0..n).find(|&f| !(paths.left[f].is_finite() && paths.right[f].is_finite())) {
         return Err(format!("a foot position in frame {f} is not a finite number"));
     }
 
@@ -146,30 +146,30 @@ pub fn paper_translation(
     };
 
     // Pass 1: pin the foot with the smaller smoothed acceleration.
-    let accel_smoothed_g = [smooth(foot_accel_g[0])?, smooth(foot_accel_g[1])?];
+    let accel_smoothed_g = PerFoot::new(smooth(foot_accel_g.left)?, smooth(foot_accel_g.right)?);
     let pass1_pinned = pinned_feet(&accel_smoothed_g, None);
     let zero = vec![DVec3::ZERO; n];
     let shift1 = pin_shifts(&paths, &zero, &pass1_pinned);
 
     // Pass 2: pin the lower foot, judged on the heights after pass 1.
     let heights =
-        [0, 1].map(|side| paths[side].iter().zip(&shift1).map(|(p, s)| p.y + s.y).collect::<Vec<f64>>());
-    let heights_smoothed_cm = [smooth(&heights[0])?, smooth(&heights[1])?];
+        paths.as_ref().map(|path| path.iter().zip(&shift1).map(|(p, s)| p.y + s.y).collect::<Vec<f64>>());
+    let heights_smoothed_cm = PerFoot::new(smooth(&heights.left)?, smooth(&heights.right)?);
     let pass2_pinned = pinned_feet(&heights_smoothed_cm, Some(params.dy_eps_cm));
     let shift2 = pin_shifts(&paths, &shift1, &pass2_pinned);
 
     // Pass 3: put the lower foot on the ground. RMoCap reads the ground from
     // the right foot's first frame, which passes 1 and 2 never move.
     let total: Vec<DVec3> = shift1.iter().zip(&shift2).map(|(a, b)| *a + *b).collect();
-    let ground_cm = params.ground_cm.unwrap_or(paths[1][0].y + total[0].y);
-    let [left_z, right_z] = &heights_smoothed_cm;
+    let ground_cm = params.ground_cm.unwrap_or(paths.right[0].y + total[0].y);
+    let PerFoot { left: left_z, right: right_z } = &heights_smoothed_cm;
     let mut ground_foot = Vec::with_capacity(n);
     let mut ground_shift_cm = Vec::with_capacity(n);
     let mut shift_cm = Vec::with_capacity(n);
     for f in 0..n {
         // `>=`: where both smoothed heights are 0 (R's tails) the left foot is grounded.
         let foot = if right_z[f] >= left_z[f] { Foot::Left } else { Foot::Right };
-        let foot_y_cm = paths[foot_index(foot)][f].y + total[f].y;
+        let foot_y_cm = paths[foot][f].y + total[f].y;
         let dy_cm = -(foot_y_cm - ground_cm);
         ground_foot.push(foot);
         ground_shift_cm.push(dy_cm);
@@ -191,13 +191,14 @@ pub fn paper_translation(
 
 fn check_inputs(
     poses: &Poses,
-    feet: Feet,
-    foot_accel_g: [&[f64]; 2],
+    feet: FootJoints,
+    foot_accel_g: PerFoot<&[f64]>,
     fps: f64,
     params: &PaperParams,
 ) -> Result<(), String> {
     let n = poses.frame_count();
-    for (side, joint) in [("left", feet.left), ("right", feet.right)] {
+    for (foot, &joint) in feet.iter() {
+        let side = foot.name();
         if joint >= poses.joint_count {
             return Err(format!(
                 "the {side} foot is joint {joint}, but there are only {} joints",
@@ -205,7 +206,8 @@ fn check_inputs(
             ));
         }
     }
-    for (side, accel) in ["left", "right"].iter().zip(foot_accel_g) {
+    for (foot, accel) in foot_accel_g.iter() {
+        let side = foot.name();
         if accel.len() != n {
             return Err(format!(
                 "expected one {side}-foot acceleration per frame ({n}), found {}",
@@ -253,19 +255,12 @@ fn check_inputs(
     Ok(())
 }
 
-fn foot_index(foot: Foot) -> usize {
-    match foot {
-        Foot::Left => 0,
-        Foot::Right => 1,
-    }
-}
-
 /// Which foot RMoCap pins over each transition `f-1 → f` given smoothed
-/// `[left, right]` signals: the one whose signal is lower in both frames
+/// signals: the one whose signal is lower in both frames
 /// (strictly; ties pin nothing). With `min_gap`, only transitions where the
 /// signals differ by more than it in frame `f-1` count (pass 2's `dyEps`).
-fn pinned_feet(signals: &[Vec<f64>; 2], min_gap: Option<f64>) -> Vec<Option<Foot>> {
-    let [left, right] = signals;
+fn pinned_feet(signals: &PerFoot<Vec<f64>>, min_gap: Option<f64>) -> Vec<Option<Foot>> {
+    let PerFoot { left, right } = signals;
     let n = left.len();
     let mut pinned = vec![None; n];
     for f in 1..n {
@@ -290,12 +285,12 @@ fn pinned_feet(signals: &[Vec<f64>; 2], min_gap: Option<f64>) -> Vec<Option<Foot
 /// `f-1 → f`, every frame from `f` on moves back by the pinned foot's
 /// displacement over it, measured on the foot `paths` already moved by
 /// `before` and by this pass so far (as R's `correctMe3D` sees them).
-fn pin_shifts(paths: &[Vec<DVec3>; 2], before: &[DVec3], pinned: &[Option<Foot>]) -> Vec<DVec3> {
+fn pin_shifts(paths: &PerFoot<Vec<DVec3>>, before: &[DVec3], pinned: &[Option<Foot>]) -> Vec<DVec3> {
     let mut shift = DVec3::ZERO;
     let mut out = Vec::with_capacity(pinned.len());
     for (f, pin) in pinned.iter().enumerate() {
         if let Some(foot) = pin {
-            let path = &paths[foot_index(*foot)];
+            let path = &paths[*foot];
             let from = path[f - 1] + before[f - 1] + shift;
             let to = path[f] + before[f] + shift;
             shift -= to - from;
@@ -319,7 +314,7 @@ mod tests {
         Poses { joint_count: 3, positions_cm }
     }
 
-    const FEET: Feet = Feet { left: 0, right: 1 };
+    const FEET: FootJoints = FootJoints { left: 0, right: 1 };
 
     #[test]
     fn a_sliding_body_with_a_calm_left_foot_is_held_still() {
@@ -331,7 +326,8 @@ mod tests {
         let left = vec![1.0; n];
         let right = vec![1.5; n];
         let params = PaperParams { smoothing: Smoothing::Clean, ..Default::default() };
-        let result = paper_translation(&poses, FEET, [&left, &right], 100.0, &params).unwrap();
+        let result =
+            paper_translation(&poses, FEET, PerFoot::new(&left[..], &right[..]), 100.0, &params).unwrap();
         assert!(result.pass1_pinned[1..].iter().all(|&p| p == Some(Foot::Left)));
         let moved = poses.shifted(&result.shift_cm);
         for f in 0..n {
@@ -349,12 +345,18 @@ mod tests {
         let poses = walk(n, |f| DVec3::new(f as f64, 0.0, 0.0), |_| DVec3::new(0.0, 10.0, 0.0));
         let left = vec![1.0; n];
         let right = vec![1.5; n];
-        let result =
-            paper_translation(&poses, FEET, [&left, &right], 100.0, &PaperParams::default()).unwrap();
+        let result = paper_translation(
+            &poses,
+            FEET,
+            PerFoot::new(&left[..], &right[..]),
+            100.0,
+            &PaperParams::default(),
+        )
+        .unwrap();
         assert!(result.pass1_pinned[..51].iter().all(Option::is_none));
         assert!(result.pass1_pinned[51..250].iter().all(|&p| p == Some(Foot::Left)));
         assert!(result.pass1_pinned[250..].iter().all(Option::is_none));
-        assert_eq!(result.accel_smoothed_g[0][0], 0.0);
+        assert_eq!(result.accel_smoothed_g.left[0], 0.0);
     }
 
     #[test]
@@ -363,22 +365,31 @@ mod tests {
         let poses = walk(n, |_| DVec3::ZERO, |_| DVec3::ZERO);
         let ok = vec![1.0; n];
         let p = PaperParams::default();
-        assert!(paper_translation(&poses, FEET, [&ok, &ok[1..]], 100.0, &p).is_err());
-        assert!(paper_translation(&poses, Feet { left: 0, right: 7 }, [&ok, &ok], 100.0, &p).is_err());
+        assert!(paper_translation(&poses, FEET, PerFoot::new(&ok[..], &ok[1..]), 100.0, &p).is_err());
+        assert!(
+            paper_translation(
+                &poses,
+                FootJoints { left: 0, right: 7 },
+                PerFoot::new(&ok[..], &ok[..]),
+                100.0,
+                &p
+            )
+            .is_err()
+        );
         let mut nan = ok.clone();
         nan[5] = f64::NAN;
-        assert!(paper_translation(&poses, FEET, [&ok, &nan], 100.0, &p).is_err());
-        assert!(paper_translation(&poses, FEET, [&ok, &ok], 0.0, &p).is_err());
+        assert!(paper_translation(&poses, FEET, PerFoot::new(&ok[..], &nan[..]), 100.0, &p).is_err());
+        assert!(paper_translation(&poses, FEET, PerFoot::new(&ok[..], &ok[..]), 0.0, &p).is_err());
         // 300 frames at 400 fps is shorter than the 400-frame window: the
         // window is halved to fit, and the result says so.
-        let short = paper_translation(&poses, FEET, [&ok, &ok], 400.0, &p).unwrap();
+        let short = paper_translation(&poses, FEET, PerFoot::new(&ok[..], &ok[..]), 400.0, &p).unwrap();
         assert!(short.warnings[0].contains("using 150 frames"), "{:?}", short.warnings);
         let three = walk(3, |_| DVec3::ZERO, |_| DVec3::ZERO);
-        assert!(paper_translation(&three, FEET, [&ok[..3], &ok[..3]], 100.0, &p).is_err());
+        assert!(paper_translation(&three, FEET, PerFoot::new(&ok[..3], &ok[..3]), 100.0, &p).is_err());
         let clean = PaperParams { smoothing: Smoothing::Clean, ..p };
-        assert!(paper_translation(&poses, FEET, [&ok, &ok], 400.0, &clean).is_ok());
+        assert!(paper_translation(&poses, FEET, PerFoot::new(&ok[..], &ok[..]), 400.0, &clean).is_ok());
         let mut bad_pose = poses.clone();
         bad_pose.positions_cm[3] = DVec3::new(f64::INFINITY, 0.0, 0.0);
-        assert!(paper_translation(&bad_pose, FEET, [&ok, &ok], 100.0, &p).is_err());
+        assert!(paper_translation(&bad_pose, FEET, PerFoot::new(&ok[..], &ok[..]), 100.0, &p).is_err());
     }
 }

@@ -242,9 +242,7 @@ impl Player {
         let frame = self.frame() as usize;
         if self.drawn_frame != Some(frame) || self.scene_dirty {
             let pinned = match session.plot_data.stance.get(frame) {
-                Some(Stance::Pinned(foot, _)) => {
-                    Some((session.translated.feet.joint(*foot), *foot == Foot::Left))
-                }
+                Some(Stance::Pinned(foot, _)) => Some((session.translated.feet[*foot], *foot == Foot::Left)),
                 _ => None,
             };
             self.scene.set_frame(

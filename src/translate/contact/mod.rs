@@ -38,7 +38,7 @@
 
 use glam::DVec3;
 
-use crate::body::feet::{Feet, Foot, above_hips, foot_points};
+use crate::body::feet::{Foot, FootJoints, PerFoot, above_hips, foot_points};
 use crate::body::skeleton::Poses;
 use crate::body::sole::{Sole, SolePart, foot_shapes};
 use crate::signal::accel::STANDARD_GRAVITY_CM_PER_S2;
@@ -210,14 +210,14 @@ fn horizontal(v: DVec3) -> DVec3 {
 
 /// Runs the contact method on global joint positions `poses` (Y up, cm).
 /// `parents` gives the foot points below each foot joint; `hips` is the joint
-/// whose path is rebuilt; `foot_accel_g` are accelerometer magnitudes
-/// `[left, right]` in g when the suit recorded them.
+/// whose path is rebuilt; `foot_accel_g` are the feet's accelerometer
+/// magnitudes in g when the suit recorded them.
 pub fn contact_translation(
     poses: &Poses,
     parents: &[Option<usize>],
-    feet: Feet,
+    feet: FootJoints,
     hips: usize,
-    foot_accel_g: Option<[&[f64]; 2]>,
+    foot_accel_g: Option<PerFoot<&[f64]>>,
     fps: f64,
     params: &ContactParams,
 ) -> Result<ContactResult, String> {
@@ -241,7 +241,7 @@ pub fn contact_translation(
     let com_from_hips = smooth_paths(&centre_of_mass_from_hips(poses, parents, feet, hips), 1, sigma_samples);
     // With accelerometers: how far each foot's reading is from 1 g.
     let calm_g = |side: usize, f: usize| -> Option<f64> {
-        foot_accel_g.and_then(|a| a[side].get(f).copied()).map(|a| (a - 1.0).abs())
+        foot_accel_g.and_then(|a| a[foot(side)].get(f).copied()).map(|a| (a - 1.0).abs())
     };
     // Horizontal: for each sole depth, the contact sequence along which the
     // centre of mass moves most as the floor pushes it; the depth whose best
@@ -252,7 +252,7 @@ pub fn contact_translation(
     let mut toes = true;
     for sole_depth_cm in depths {
         let soles = shapes.each_ref().map(|shape| shape.sole(sole_depth_cm).smoothed(sigma_samples));
-        // Feet without toes have no sole below their joints to place: every
+        // FootJoints without toes have no sole below their joints to place: every
         // depth gives the same.
         toes = soles.iter().any(Sole::has_toes);
         let chosen: Vec<Contacts> = phases
@@ -406,7 +406,12 @@ fn unexplained_change(change: DVec3, push: DVec3, along: DVec3) -> DVec3 {
 /// ankle), and the rest (68%: trunk, head, arms) at the mean of the joints
 /// that are not in a leg nor above the hips. An unweighted mean of all joints would give the
 /// arms a third of the body's mass instead of a tenth.
-fn centre_of_mass_from_hips(poses: &Poses, parents: &[Option<usize>], feet: Feet, hips: usize) -> Vec<DVec3> {
+fn centre_of_mass_from_hips(
+    poses: &Poses,
+    parents: &[Option<usize>],
+    feet: FootJoints,
+    hips: usize,
+) -> Vec<DVec3> {
     // A leg: the joints from the foot up to, not including, the hips.
     let leg = |foot: usize| {
         let mut chain = vec![foot];
@@ -856,7 +861,7 @@ mod tests {
 
     /// Hips (0), left ankle (1) and toe (2), right ankle (3) and toe (4).
     const PARENTS: [Option<usize>; 5] = [None, Some(0), Some(1), Some(0), Some(3)];
-    const FEET: Feet = Feet { left: 1, right: 3 };
+    const FEET: FootJoints = FootJoints { left: 1, right: 3 };
     /// 30 fps, where no jitter smoothing applies: these tests are about the
     /// choice of contacts, coasting and flight.
     const FPS: f64 = 30.0;
@@ -997,7 +1002,7 @@ mod tests {
         let frame = [DVec3::new(0.0, 90.0, 0.0), DVec3::new(-10.0, 8.0, 0.0), DVec3::new(10.0, 8.0, 0.0)];
         let poses = Poses { joint_count: 3, positions_cm: frame.repeat(10) };
         let parents = [None, Some(0), Some(0)];
-        let feet = Feet { left: 1, right: 2 };
+        let feet = FootJoints { left: 1, right: 2 };
         let result =
             contact_translation(&poses, &parents, feet, 0, None, FPS, &ContactParams::default()).unwrap();
         assert_eq!(result.sole_depth_cm, None);
