@@ -2,6 +2,9 @@
 //! methods on the shared karate recordings. Prints figures; asserts nothing (speed goals
 //! are read off this output, not enforced by timed tests).
 
+// A benchmark may panic on what it does not expect.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::path::Path;
 use std::time::{Duration, Instant};
 

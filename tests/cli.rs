@@ -1,6 +1,9 @@
 //! The `embusen` binary as a user runs it: the demo, `info` and `translate` on
 //! every shared recording, corrupted files, many files at once, exit codes.
 
+// A test may panic on what it does not expect: that is how it fails.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 mod common;
 
 use std::path::{Path, PathBuf};

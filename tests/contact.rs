@@ -3,6 +3,9 @@
 //! joints on top of each other, one frame or none, at rates whose grid
 //! step is longer than the recording.
 
+// A test may panic on what it does not expect: that is how it fails.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use embusen::body::feet::{FootJoints, PerFoot, hips_joint};
 use embusen::body::skeleton::Poses;
 use embusen::translate::contact::{ContactParams, contact_translation};

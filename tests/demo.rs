@@ -3,6 +3,9 @@
 //! kinematics, nothing sinks into the floor, the path is real and closes, and
 //! the simulated accelerometers read 1 g where the feet rest.
 
+// A test may panic on what it does not expect: that is how it fails.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use embusen::body::feet::detect_feet;
 use embusen::body::kinematics::forward_kinematics;
 use embusen::body::skeleton::{Channel, Poses};

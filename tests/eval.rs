@@ -3,6 +3,9 @@
 //! are met are asserted; the ones that are not yet met are `#[ignore]`d tests
 //! that say so, so `cargo test -- --ignored` shows how far off they are.
 
+// A test may panic on what it does not expect: that is how it fails.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 mod common;
 
 use embusen::body::skeleton::Poses;

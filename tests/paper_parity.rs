@@ -1,6 +1,9 @@
 //! Parity with the authors' own R implementation (`RMoCap::calculate.kinematic`)
 //! on their Heian Shodan recording, and the clean variant's sanity.
 
+// A test may panic on what it does not expect: that is how it fails.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 

@@ -1,6 +1,9 @@
 //! The RMoCap table reader and writer: error positions, round trips, and the
 //! odd shapes real files come in.
 
+// A test may panic on what it does not expect: that is how it fails.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use embusen::io::table::{Accelerations, Table};
 use glam::DVec3;
 use proptest::prelude::*;

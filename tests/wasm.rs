@@ -1,6 +1,9 @@
 //! The wasm API in a real browser (`./build.sh test` runs it through
 //! wasm-bindgen-test-runner and Chromium): a player over two canvases opens
 //! the demo, plays, seeks, recomputes, exports, and survives bad input.
+
+// A test may panic on what it does not expect: that is how it fails.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
 #![cfg(target_arch = "wasm32")]
 
 use embusen::web::Player;
