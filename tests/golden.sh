@@ -17,6 +17,8 @@ ROOT="$PWD"
 BASE="${1:-27b7be7}"
 DATA="$ROOT/../shared/data"
 WORK="$ROOT/target/golden"
+# Where BASE is built; several checkouts may share one (GOLDEN_BASE_BUILD).
+BASE_BUILD="${GOLDEN_BASE_BUILD:-$WORK}"
 
 if [ ! -d "$DATA" ]; then
     echo "SKIPPED: $DATA not found; nothing to compare on" >&2
@@ -29,18 +31,19 @@ mkdir -p "$WORK"
 
 # --- the two binaries ------------------------------------------------------------
 build_base() {
-    local src="$WORK/base-src"
-    if [ "$(cat "$WORK/base-commit" 2>/dev/null)" != "$base_commit" ]; then
+    local src="$BASE_BUILD/base-src"
+    mkdir -p "$BASE_BUILD"
+    if [ "$(cat "$BASE_BUILD/base-commit" 2>/dev/null)" != "$base_commit" ]; then
         rm -rf "$src"
         mkdir -p "$src"
         git archive "$base_commit" | tar -x -C "$src"
-        echo "$base_commit" >"$WORK/base-commit"
+        echo "$base_commit" >"$BASE_BUILD/base-commit"
     fi
-    (cd "$src" && CARGO_TARGET_DIR="$WORK/base-target" cargo build --release --quiet --bin embusen)
+    (cd "$src" && CARGO_TARGET_DIR="$BASE_BUILD/base-target" cargo build --release --quiet --bin embusen)
 }
 build_base
 cargo build --release --quiet --bin embusen
-BASE_BIN="$WORK/base-target/release/embusen"
+BASE_BIN="$BASE_BUILD/base-target/release/embusen"
 HEAD_BIN="$ROOT/target/release/embusen"
 
 # A BVH that has an accelerometer file beside it, once more without it.
