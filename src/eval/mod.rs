@@ -4,7 +4,7 @@
 //! A ground-truth file is evaluated by removing its translation — every
 //! position channel from the root down to the hips is frozen at its
 //! first-frame value — estimating it again, and comparing the hips with the
-//! original recording's.
+//! original recording's. May import `translate`, `io`, `body`, `signal`.
 
 pub mod metrics;
 

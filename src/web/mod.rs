@@ -2,6 +2,8 @@
 //! 3D view and the plots) and drives from its animation loop. It holds a
 //! [`Session`] and only translates between the page and the core: parsing,
 //! kinematics, the method, plot layout and rendering all happen in Rust.
+//! Built only for wasm32; may import everything below it, and nothing of the
+//! core imports it.
 
 mod canvas2d;
 mod scene;

@@ -1,0 +1,109 @@
+//! The one-way rule of `ARCHITECTURE.md`, checked on the source: a folder of
+//! `src/` names (`crate::x`) only the folders of lower layers, never its own
+//! layer's siblings nor anything above. Unit tests (after `#[cfg(test)]`) may
+//! reach anywhere: a test of the plots may open the demo.
+
+// A test may panic on what it does not expect: that is how it fails.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+/// The layers, bottom first. A module may use the modules of lower layers.
+const LAYERS: [&[&str]; 7] =
+    [&["error", "signal"], &["body"], &["io"], &["translate", "synth"], &["eval"], &["app"], &["web"]];
+
+fn layer_of(module: &str) -> Option<usize> {
+    LAYERS.iter().position(|layer| layer.contains(&module))
+}
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            rust_files(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+}
+
+/// The top-level modules named as `crate::NAME` in `text` before its unit
+/// tests, with the 1-based line of each use.
+fn crate_references(text: &str) -> Vec<(usize, String)> {
+    let mut found = Vec::new();
+    for (number, line) in text.lines().enumerate() {
+        if line.trim_start().starts_with("#[cfg(test)]") {
+            break;
+        }
+        let code = line.split("//").next().unwrap_or("");
+        let mut rest = code;
+        while let Some(at) = rest.find("crate::") {
+            let after = &rest[at + "crate::".len()..];
+            let name: String = after.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
+            found.push((number + 1, name));
+            rest = after;
+        }
+    }
+    found
+}
+
+#[test]
+fn no_import_runs_sideways_or_up() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut checked = 0;
+    let mut wrong = Vec::new();
+    for file in &files {
+        let relative = file.strip_prefix(&src).unwrap();
+        let module = relative.components().next().unwrap().as_os_str().to_string_lossy();
+        let module = module.trim_end_matches(".rs");
+        // lib.rs declares the modules; bin/ is the CLI, a crate of its own
+        // that uses the library from outside.
+        let Some(own_layer) = layer_of(module) else { continue };
+        let text = fs::read_to_string(file).unwrap();
+        for (line, used) in crate_references(&text) {
+            checked += 1;
+            let Some(used_layer) = layer_of(&used) else {
+                wrong.push(format!("src/{}:{line}: crate::{used} is in no layer", relative.display()));
+                continue;
+            };
+            if used != module && used_layer >= own_layer {
+                wrong.push(format!(
+                    "src/{}:{line}: {module} (layer {own_layer}) uses crate::{used} (layer {used_layer})",
+                    relative.display()
+                ));
+            }
+        }
+    }
+    assert!(checked > 50, "only {checked} crate:: references found: is the scan broken?");
+    assert!(wrong.is_empty(), "imports against the one-way rule:\n{}", wrong.join("\n"));
+}
+
+#[test]
+fn every_folder_says_what_it_is_for_and_may_import() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    for layer in LAYERS {
+        for module in layer {
+            let folder = src.join(module).join("mod.rs");
+            let file = if folder.exists() { folder } else { src.join(format!("{module}.rs")) };
+            let text = fs::read_to_string(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+            let doc: String = text.lines().take_while(|l| l.starts_with("//!")).collect::<Vec<_>>().join(" ");
+            assert!(doc.len() > 80, "{} opens with no paragraph on what it is for", file.display());
+            if file.ends_with("mod.rs") {
+                assert!(
+                    doc.contains("import"),
+                    "{}: its opening paragraph says nothing of what it may import",
+                    file.display()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_scan_sees_an_upward_import() {
+    let text = "use crate::body::feet::Foot;\nlet x = crate::web::thing(); // crate::app in a comment\n#[cfg(test)]\nuse crate::app;";
+    assert_eq!(crate_references(text), vec![(1, "body".to_string()), (2, "web".to_string())]);
+}
