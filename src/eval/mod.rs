@@ -7,6 +7,7 @@
 //! original recording's.
 
 pub mod metrics;
+pub mod summary;
 
 use glam::DVec3;
 
