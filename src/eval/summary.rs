@@ -23,38 +23,14 @@ pub struct FileAccuracy {
     pub contact: Accuracy,
 }
 
-/// The figures of one method that the table shows, for one file or as
-/// medians over a group of files.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Figures {
-    pub mean_error_pct: f64,
-    pub final_error_pct: f64,
-    pub path_ratio: f64,
-    pub skating_cm_per_s: f64,
-    pub truth_skating_cm_per_s: f64,
-    pub vertical_error_cm: f64,
-}
-
-impl From<&Accuracy> for Figures {
-    fn from(a: &Accuracy) -> Figures {
-        Figures {
-            mean_error_pct: a.mean_error_pct,
-            final_error_pct: a.final_error_pct,
-            path_ratio: a.path_ratio,
-            skating_cm_per_s: a.skating_cm_per_s,
-            truth_skating_cm_per_s: a.truth_skating_cm_per_s,
-            vertical_error_cm: a.vertical_error_cm,
-        }
-    }
-}
-
-/// Medians over a group of files.
+/// Medians over a group of files: per method, an [`Accuracy`] each field of
+/// which is the median of that field over the group (see [`medians`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct GroupMedians {
     /// Every file of the group, moving or not.
     pub file_count: usize,
-    pub paper: Figures,
-    pub contact: Figures,
+    pub paper: Accuracy,
+    pub contact: Accuracy,
 }
 
 /// The summary of a ground-truth evaluation.
@@ -83,17 +59,18 @@ fn is_moving(a: &Accuracy) -> bool {
     a.true_path_cm >= MOVING_MIN_PATH_CM
 }
 
-/// The median of each figure of one method over `accuracies` (NaN ones left
+/// The median of each field of one method's `accuracies` (NaN ones left
 /// out, see [`median`]): the percentages and the path ratio over the moving
-/// files only (see [`MOVING_MIN_PATH_CM`]), the skating and the vertical
-/// error over all. NaN when nothing is left to take the median of.
-fn medians(accuracies: &[&Accuracy]) -> Figures {
+/// files only (see [`MOVING_MIN_PATH_CM`]), the true path, the skating and
+/// the vertical error over all. NaN when nothing is left to take the median of.
+pub fn medians(accuracies: &[&Accuracy]) -> Accuracy {
     let of = |figure: fn(&Accuracy) -> f64, moving_only: bool| {
         let values: Vec<f64> =
             accuracies.iter().filter(|a| !moving_only || is_moving(a)).map(|a| figure(a)).collect();
         median(&values)
     };
-    Figures {
+    Accuracy {
+        true_path_cm: of(|a| a.true_path_cm, false),
         mean_error_pct: of(|a| a.mean_error_pct, true),
         final_error_pct: of(|a| a.final_error_pct, true),
         path_ratio: of(|a| a.path_ratio, true),
@@ -154,7 +131,7 @@ pub fn format_header() -> String {
 /// One line of the table: `label`, then `second` (the true path in m of a
 /// file, or the file count of a group), then both methods' figures side by
 /// side (the truth's skating from `contact`'s).
-fn format_line(label: &str, second: &str, paper: &Figures, contact: &Figures) -> String {
+fn format_line(label: &str, second: &str, paper: &Accuracy, contact: &Accuracy) -> String {
     format!(
         "{:<36} {:>8} | {:>8.2} {:>8.2} | {:>8.2} {:>8.2} | {:>6.3} {:>6.3} | {:>6.2} {:>6.2} {:>6.2} | {:>6.1} {:>6.1}",
         label,
@@ -176,7 +153,7 @@ fn format_line(label: &str, second: &str, paper: &Figures, contact: &Figures) ->
 /// A file's line of the table, without a line end.
 pub fn format_file(file: &FileAccuracy) -> String {
     let path_m = format!("{:.2}", file.contact.true_path_cm / 100.0);
-    format_line(&file.name, &path_m, &(&file.paper).into(), &(&file.contact).into())
+    format_line(&file.name, &path_m, &file.paper, &file.contact)
 }
 
 /// The summary's lines, each ending in a line end: a heading, one line per
@@ -243,6 +220,7 @@ mod tests {
         assert_eq!(bow.contact.skating_cm_per_s, 900.0);
         // Over all: the bow counts, and counts in skating and vertical error only.
         assert_eq!(s.all.file_count, 3);
+        assert_eq!(s.all.paper.true_path_cm, 300.0);
         assert_eq!(s.all.contact.mean_error_pct, median(&[1.0, 3.0]));
         assert_eq!(s.all.contact.skating_cm_per_s, median(&[10.0, 30.0, 900.0]));
         assert_eq!(s.all.paper.vertical_error_cm, median(&[20.0, 30.0, 250.0]));
