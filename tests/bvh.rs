@@ -154,9 +154,14 @@ fn errors_say_where_and_what() {
         assert!(e.message.contains(message), "{e}");
         assert!(e.to_string().starts_with(&format!("t.bvh:{line}:{column}: ")), "{e}");
     }
-    // Truncated in the middle of the hierarchy: names the end of the file.
-    let e = parse(&good[..60]).unwrap_err();
-    assert!(e.message.contains("end of the file") || e.message.contains("expected"), "{e}");
+    // Truncated in the middle of the hierarchy: names the end of the file,
+    // and points just past the last character.
+    let truncated = &good[..60];
+    let e = parse(truncated).unwrap_err();
+    assert!(e.message.ends_with("found the end of the file"), "{e}");
+    let last_line = truncated.rsplit('\n').next().unwrap();
+    let end = (truncated.lines().count(), last_line.chars().count() + 1);
+    assert_eq!(e.line_column, Some(end), "{e}");
 }
 
 #[test]

@@ -27,9 +27,14 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// The shared BVHs (each folder must have some) and the Heian Shodan tables.
 fn shared_recordings(dir: &Path) -> Vec<PathBuf> {
-    let mut files = common::files_with_extension(&dir.join("karate"), "bvh");
-    files.extend(common::files_with_extension(&dir.join("groundtruth"), "bvh"));
+    let mut files = Vec::new();
+    for sub in ["karate", "groundtruth"] {
+        let found = common::files_with_extension(&dir.join(sub), "bvh");
+        assert!(!found.is_empty(), "no BVH in {}", dir.join(sub).display());
+        files.extend(found);
+    }
     files.push(dir.join("karate/heian_shodan.csv"));
     files.push(dir.join("karate/heian_shodan.paper-reference.csv"));
     files

@@ -8,30 +8,35 @@
 
 mod common;
 
+use std::sync::OnceLock;
+
 use embusen::body::skeleton::Poses;
-use embusen::eval::{Accuracy, accuracy, evaluate_groundtruth, freeze_translation, kata_closure_cm};
+use embusen::eval::summary::{FileAccuracy, evaluate_file};
+use embusen::eval::{accuracy, freeze_translation, kata_closure_cm};
 use embusen::io::recording::{FeetChoice, Recording, Source};
+use embusen::signal::stats::median;
 use embusen::translate::Method;
 
-/// Every ground-truth file, evaluated by `paper` and `contact`.
-fn evaluate_all() -> Option<Vec<(String, Accuracy, Accuracy)>> {
+/// Every ground-truth file, evaluated by both methods once for all the tests
+/// that read it; `None` (the calling test said it is skipped) without the data.
+fn evaluate_all() -> Option<&'static [FileAccuracy]> {
+    static ALL: OnceLock<Vec<FileAccuracy>> = OnceLock::new();
     let dir = common::data_dir()?;
-    let files = common::files_with_extension(&dir.join("groundtruth"), "bvh");
-    assert!(!files.is_empty(), "no BVH in {}", dir.join("groundtruth").display());
-    Some(
+    Some(ALL.get_or_init(|| {
+        let files = common::files_with_extension(&dir.join("groundtruth"), "bvh");
+        assert!(!files.is_empty(), "no BVH in {}", dir.join("groundtruth").display());
         files
             .iter()
             .map(|path| {
                 let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
                 let recording = common::open(&dir, &format!("groundtruth/{name}"));
                 let Source::Bvh(bvh) = &recording.source else { panic!("{name}: a BVH") };
-                let paper = evaluate_groundtruth(bvh, &name, &Method::Paper(Default::default())).unwrap();
-                let contact = evaluate_groundtruth(bvh, &name, &Method::default()).unwrap();
-                eprintln!("{name}:\n  paper   {paper:?}\n  contact {contact:?}");
-                (name, paper, contact)
+                let file = evaluate_file(bvh, &name).unwrap();
+                eprintln!("{name}:\n  paper   {:?}\n  contact {:?}", file.paper, file.contact);
+                file
             })
-            .collect(),
-    )
+            .collect()
+    }))
 }
 
 fn is(name: &str, motion: &str) -> bool {
@@ -41,7 +46,7 @@ fn is(name: &str, motion: &str) -> bool {
 #[test]
 fn contact_beats_paper_on_every_groundtruth_file() {
     let Some(all) = evaluate_all() else { return };
-    for (name, paper, contact) in &all {
+    for FileAccuracy { name, paper, contact } in all {
         assert!(contact.mean_error_pct < paper.mean_error_pct, "{name}: {contact:?} vs {paper:?}");
     }
 }
@@ -49,9 +54,9 @@ fn contact_beats_paper_on_every_groundtruth_file() {
 #[test]
 fn runs_and_dashes_stay_within_five_percent() {
     let Some(all) = evaluate_all() else { return };
-    let fast: Vec<_> = all.iter().filter(|(name, ..)| is(name, "run") || is(name, "dash")).collect();
+    let fast: Vec<_> = all.iter().filter(|f| is(&f.name, "run") || is(&f.name, "dash")).collect();
     assert!(!fast.is_empty(), "no run or dash among the ground-truth files");
-    for (name, _, contact) in fast {
+    for FileAccuracy { name, contact, .. } in fast {
         assert!(contact.mean_error_pct <= 5.0, "{name}: {contact:?}");
         assert!((0.9..=1.1).contains(&contact.path_ratio), "{name}: {contact:?}");
     }
@@ -63,41 +68,44 @@ fn runs_and_dashes_stay_within_five_percent() {
 #[test]
 fn feet_planted_in_the_truth_skate_no_more_than_its_jitter() {
     let Some(all) = evaluate_all() else { return };
-    let mut excess: Vec<f64> = all
+    let excess: Vec<f64> = all
         .iter()
-        .map(|(_, _, c)| c.skating_cm_per_s - c.truth_skating_cm_per_s)
+        .map(|f| f.contact.skating_cm_per_s - f.contact.truth_skating_cm_per_s)
         .filter(|e| !e.is_nan())
         .collect();
     assert!(!excess.is_empty(), "no file has a planted foot");
-    excess.sort_by(f64::total_cmp);
-    let middle = excess.len() / 2;
-    let median =
-        if excess.len() % 2 == 1 { excess[middle] } else { 0.5 * (excess[middle - 1] + excess[middle]) };
-    assert!(median <= 0.5, "median skating above the truth's jitter {median} cm/s: {excess:?}");
+    let median_excess = median(&excess);
+    assert!(median_excess <= 0.5, "median skating above the truth's jitter {median_excess} cm/s: {excess:?}");
 }
 
 #[test]
 fn walks_meet_the_acceptance_figures() {
     let Some(all) = evaluate_all() else { return };
-    for (name, _, contact) in all.iter().filter(|(name, ..)| name.contains("walk")) {
+    let walks: Vec<_> = all.iter().filter(|f| f.name.contains("walk")).collect();
+    assert!(!walks.is_empty(), "no walk among the ground-truth files");
+    for FileAccuracy { name, contact, .. } in walks {
         assert!(contact.mean_error_pct <= 1.0, "{name}: {contact:?}");
         assert!(contact.final_error_pct <= 2.0, "{name}: {contact:?}");
         assert!((0.97..=1.03).contains(&contact.path_ratio), "{name}: {contact:?}");
     }
 }
 
-/// The closure of both katas by the contact method (cm), vendor translation
-/// removed, Heian Shodan with its accelerometers.
+/// The closure (cm) of both katas, Heian Shodan then Heian Nidan, by the
+/// paper and the contact method, vendor translation removed, Heian Shodan
+/// with its accelerometers; computed once for all the tests that read it.
 fn kata_closures() -> Option<[(f64, f64); 2]> {
+    static CLOSURES: OnceLock<[(f64, f64); 2]> = OnceLock::new();
     let dir = common::data_dir()?;
-    let mut shodan = common::open(&dir, "karate/heian_shodan.bvh");
-    shodan.attach_accel(common::open_accel(&dir, "karate/heian_shodan.accel.csv")).unwrap();
-    let nidan = common::open(&dir, "karate/heian_nidan.bvh");
-    Some([shodan, nidan].map(|kata| {
-        let paper = kata_closure_cm(&kata, &Method::Paper(Default::default())).unwrap();
-        let contact = kata_closure_cm(&kata, &Method::default()).unwrap();
-        eprintln!("{} closure: paper {paper:.1} cm, contact {contact:.1} cm", kata.name);
-        (paper, contact)
+    Some(*CLOSURES.get_or_init(|| {
+        let mut shodan = common::open(&dir, "karate/heian_shodan.bvh");
+        shodan.attach_accel(common::open_accel(&dir, "karate/heian_shodan.accel.csv")).unwrap();
+        let nidan = common::open(&dir, "karate/heian_nidan.bvh");
+        [shodan, nidan].map(|kata| {
+            let paper = kata_closure_cm(&kata, &Method::Paper(Default::default())).unwrap();
+            let contact = kata_closure_cm(&kata, &Method::default()).unwrap();
+            eprintln!("{} closure: paper {paper:.1} cm, contact {contact:.1} cm", kata.name);
+            (paper, contact)
+        })
     }))
 }
 

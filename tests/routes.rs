@@ -120,7 +120,9 @@ fn demo_translation_is_recovered() {
 fn every_shared_recording_stands_y_up_and_has_its_hips_found() {
     let Some(dir) = common::data_dir() else { return };
     for sub in ["karate", "groundtruth"] {
-        for path in common::files_with_extension(&dir.join(sub), "bvh") {
+        let files = common::files_with_extension(&dir.join(sub), "bvh");
+        assert!(!files.is_empty(), "no BVH in {}", dir.join(sub).display());
+        for path in files {
             let recording =
                 common::open(&dir, &format!("{sub}/{}", path.file_name().unwrap().to_string_lossy()));
             let feet = recording.feet(&FeetChoice::default()).expect("feet");

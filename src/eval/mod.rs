@@ -7,10 +7,11 @@
 //! original recording's. May import `translate`, `io`, `body`, `signal`.
 
 pub mod metrics;
+pub mod summary;
 
 use glam::DVec3;
 
-use crate::body::feet::{Foot, FootJoints, foot_points};
+use crate::body::feet::{FootJoints, PerFoot, foot_points};
 use crate::body::skeleton::Poses;
 use crate::error::Error;
 use crate::eval::metrics::{floor_closure_cm, floor_path_cm};
@@ -79,9 +80,9 @@ fn truth_still_joints(
     parents: &[Option<usize>],
     feet: FootJoints,
     fps: f64,
-) -> [Vec<Option<usize>>; 2] {
+) -> PerFoot<Vec<Option<usize>>> {
     let n = truth.frame_count();
-    [Foot::Left, Foot::Right].map(|foot| {
+    PerFoot::from_fn(|foot| {
         let points = foot_points(parents, feet[foot]);
         let lowest = |f: usize| points.iter().map(|&j| truth.at(f, j).y).fold(f64::INFINITY, f64::min);
         let floor = (0..n).map(lowest).fold(f64::INFINITY, f64::min);
@@ -119,7 +120,7 @@ pub fn accuracy(estimated: &Translated, truth: &Poses, parents: &[Option<usize>]
         |poses: &Poses, f: usize, j: usize| (poses.at(f, j) - poses.at(f - 1, j)).with_y(0.0).length() * fps;
     let planted: Vec<(usize, usize)> = still
         .iter()
-        .flat_map(|frames| frames[..n].iter().enumerate().filter_map(|(f, j)| j.map(|j| (f, j))))
+        .flat_map(|(_, frames)| frames[..n].iter().enumerate().filter_map(|(f, j)| j.map(|j| (f, j))))
         .collect();
     let mean_speed = |poses: &Poses| {
         if planted.is_empty() {

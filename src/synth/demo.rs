@@ -17,6 +17,7 @@
 
 use glam::{DMat3, DVec2, DVec3};
 
+use crate::body::feet::{Foot, PerFoot};
 use crate::body::kinematics::forward_kinematics;
 use crate::body::skeleton::{Channel, Motion, Skeleton};
 use crate::io::bvh::Bvh;
@@ -34,8 +35,6 @@ pub const ANKLE_HEIGHT_CM: f64 = 5.07;
 
 /// The rotation channels of every joint, in the karate suit's order.
 const ROTATIONS: [Channel; 3] = [Channel::Zrotation, Channel::Yrotation, Channel::Xrotation];
-const LEFT: usize = 0;
-const RIGHT: usize = 1;
 /// Bone lengths and hip joint placement, from the karate suit's skeleton.
 const THIGH_CM: f64 = 42.86;
 const SHIN_CM: f64 = 39.83;
@@ -58,7 +57,7 @@ const NOISE_G: f64 = 0.01;
 /// The demo recording and the ground truth it was generated from.
 ///
 /// 100 Hz, 2406 frames (24.06 s). Every per-frame vector has one entry per
-/// frame; `[left, right]` pairs are indexed 0 = left foot, 1 = right foot.
+/// frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Demo {
     pub skeleton: Skeleton,
@@ -71,9 +70,9 @@ pub struct Demo {
     /// cm/s²) plus gravity's reaction along +Y, divided by
     /// [`STANDARD_GRAVITY_CM_PER_S2`], plus deterministic uniform noise of ±0.01 g per axis.
     /// A foot at rest reads (0, 1, 0).
-    pub foot_accel_g: [Vec<DVec3>; 2],
+    pub foot_accel_g: PerFoot<Vec<DVec3>>,
     /// Whether each foot is planted (held still on the floor) in each frame.
-    pub stance: Vec<[bool; 2]>,
+    pub stance: Vec<PerFoot<bool>>,
 }
 
 impl Demo {
@@ -87,7 +86,7 @@ impl Demo {
         recording.accel = Some(Accelerations {
             file: DEMO_NAME.to_string(),
             sensor_names: vec!["LeftFoot".to_string(), "RightFoot".to_string()],
-            accel_g: self.foot_accel_g.to_vec(),
+            accel_g: vec![self.foot_accel_g.left.clone(), self.foot_accel_g.right.clone()],
         });
         recording
     }
@@ -133,9 +132,9 @@ pub fn demo() -> Demo {
 struct Rig {
     skeleton: Skeleton,
     /// `[thigh, leg, foot]` per side.
-    legs: [[usize; 3]; 2],
+    legs: PerFoot<[usize; 3]>,
     /// `[arm, forearm]` per side.
-    arms: [[usize; 2]; 2],
+    arms: PerFoot<[usize; 2]>,
 }
 
 /// The karate suit's hierarchy and bone lengths, turned Y-up and facing +Z,
@@ -153,8 +152,8 @@ fn build_rig() -> Rig {
     ];
     // The toe lies on the floor when the foot is flat.
     let toe = [0.0, -ANKLE_HEIGHT_CM, 13.49];
-    let [left_leg, right_leg] =
-        [("Left", 1.0), ("Right", -1.0)].map(|(side, sign)| chain(s, hips, side, sign, &leg_bones, toe));
+    // Left first: joint indices follow the order the chains are added in.
+    let legs = PerFoot::from_fn(|foot| chain(s, hips, joint_prefix(foot), x_sign(foot), &leg_bones, toe));
     let spine_bones = [
         ("SpineLow", [0.0, 4.78, 0.0]),
         ("SpineMid", [0.0, 13.05, 0.0]),
@@ -169,12 +168,25 @@ fn build_rig() -> Rig {
         ("Forearm", [26.08, 0.0, 0.0]),
         ("Hand", [25.50, 0.0, 0.0]),
     ];
-    let [left_arm, right_arm] = [("Left", 1.0), ("Right", -1.0)]
-        .map(|(side, sign)| chain(s, chest, side, sign, &arm_bones, [9.0, 0.0, 0.0]));
-    Rig {
-        skeleton,
-        legs: [left_leg, right_leg].map(|j| [j[0], j[1], j[2]]),
-        arms: [left_arm, right_arm].map(|j| [j[1], j[2]]),
+    let arms = PerFoot::from_fn(|foot| {
+        chain(s, chest, joint_prefix(foot), x_sign(foot), &arm_bones, [9.0, 0.0, 0.0])
+    });
+    Rig { skeleton, legs: legs.map(|j| [j[0], j[1], j[2]]), arms: arms.map(|j| [j[1], j[2]]) }
+}
+
+/// How the joints of a side's limbs begin: `Left` (`LeftFoot`) or `Right`.
+fn joint_prefix(foot: Foot) -> &'static str {
+    match foot {
+        Foot::Left => "Left",
+        Foot::Right => "Right",
+    }
+}
+
+/// The sign of a side's X offsets: the figure's left is on +X.
+fn x_sign(foot: Foot) -> f64 {
+    match foot {
+        Foot::Left => 1.0,
+        Foot::Right => -1.0,
     }
 }
 
@@ -203,9 +215,10 @@ fn chain(
     joints
 }
 
-/// A karate stance: where the feet stand relative to the stance's centre.
+/// A karate stance of the kata: where the feet stand relative to the
+/// stance's centre.
 #[derive(Clone, Copy, Debug)]
-enum Stance {
+enum KataStance {
     /// Shizentai: feet side by side.
     Natural,
     /// Zenkutsu-dachi with the left foot in front.
@@ -216,38 +229,40 @@ enum Stance {
     Horse,
 }
 
-impl Stance {
-    /// `[left, right]` foot offsets as (to the figure's left, forward), in cm.
-    fn feet_cm(self) -> [DVec2; 2] {
+impl KataStance {
+    /// Each foot's offset as (to the figure's left, forward), in cm.
+    fn feet_cm(self) -> PerFoot<DVec2> {
         let (width, length, horse) = (12.0, 40.0, 40.0);
-        match self {
-            Stance::Natural => [DVec2::new(width, 0.0), DVec2::new(-width, 0.0)],
-            Stance::FrontLeft => [DVec2::new(width, length), DVec2::new(-width, -length)],
-            Stance::FrontRight => [DVec2::new(width, -length), DVec2::new(-width, length)],
-            Stance::Horse => [DVec2::new(horse, 0.0), DVec2::new(-horse, 0.0)],
-        }
+        let (left, right) = match self {
+            KataStance::Natural => (DVec2::new(width, 0.0), DVec2::new(-width, 0.0)),
+            KataStance::FrontLeft => (DVec2::new(width, length), DVec2::new(-width, -length)),
+            KataStance::FrontRight => (DVec2::new(width, -length), DVec2::new(-width, length)),
+            KataStance::Horse => (DVec2::new(horse, 0.0), DVec2::new(-horse, 0.0)),
+        };
+        PerFoot::new(left, right)
     }
 }
 
 /// One posture of the kata, held for `hold_s` once reached.
 #[derive(Clone, Copy, Debug)]
 struct Key {
-    stance: Stance,
+    stance: KataStance,
     /// The midpoint of the feet on the floor, as (x, z).
     center_cm: DVec2,
     /// Unwrapped (a full left turn ends at 360), so interpolation turns the
     /// intended way.
     heading_deg: f64,
-    /// How far each arm is punched out, 0 (fist at the hip) to 1 (extended).
-    punch: [f64; 2],
+    /// How far each arm is punched out, 0 (fist at the hip) to 1 (extended),
+    /// by the side of the arm.
+    punch: PerFoot<f64>,
     hold_s: f64,
     /// The foot that steps first when both feet move to reach this key.
-    lead: usize,
+    lead: Foot,
 }
 
 impl Key {
-    /// `[left, right]` ankle positions on the floor, as (x, z).
-    fn feet_cm(&self) -> [DVec2; 2] {
+    /// Each ankle's position on the floor, as (x, z).
+    fn feet_cm(&self) -> PerFoot<DVec2> {
         let yaw = self.heading_deg.to_radians();
         let (left, forward) = (DVec2::new(yaw.cos(), -yaw.sin()), DVec2::new(yaw.sin(), yaw.cos()));
         self.stance.feet_cm().map(|o| self.center_cm + o.x * left + o.y * forward)
@@ -260,16 +275,16 @@ impl Key {
 /// start position. Each key moves one foot unless noted; the other foot stays
 /// exactly where it is (the centres are chosen so).
 fn kata() -> Vec<Key> {
-    use Stance::*;
+    use KataStance::*;
     let key = |stance, x, z, heading_deg, punch, hold_s| Key {
         stance,
         center_cm: DVec2::new(x, z),
         heading_deg,
         punch,
         hold_s,
-        lead: LEFT,
+        lead: Foot::Left,
     };
-    let (none, left, right) = ([0.0, 0.0], [1.0, 0.0], [0.0, 1.0]);
+    let (none, left, right) = (PerFoot::new(0.0, 0.0), PerFoot::new(1.0, 0.0), PerFoot::new(0.0, 1.0));
     vec![
         key(Natural, 0.0, 0.0, 0.0, none, 2.0),
         key(FrontLeft, 0.0, 40.0, 0.0, left, 0.6),
@@ -291,18 +306,19 @@ fn kata() -> Vec<Key> {
         key(Natural, 12.0, 60.0, 270.0, none, 0.3),
         // Both feet move: the right first, so the left's long step back does
         // not cross it.
-        Key { lead: RIGHT, ..key(Natural, 0.0, 0.0, 360.0, none, 1.5) },
+        Key { lead: Foot::Right, ..key(Natural, 0.0, 0.0, 360.0, none, 1.5) },
     ]
 }
 
 /// What the feet, hips heading and arms should do in one frame.
 #[derive(Clone, Copy, Debug)]
 struct Targets {
-    ankle_cm: [DVec3; 2],
-    foot_yaw_deg: [f64; 2],
-    planted: [bool; 2],
+    ankle_cm: PerFoot<DVec3>,
+    foot_yaw_deg: PerFoot<f64>,
+    planted: PerFoot<bool>,
     heading_deg: f64,
-    punch: [f64; 2],
+    /// By the side of the arm, as [`Key::punch`].
+    punch: PerFoot<f64>,
 }
 
 /// Samples the plan at [`DEMO_FPS`]: each key is held, then the feet that
@@ -312,8 +328,8 @@ fn plan_frames(keys: &[Key]) -> Vec<Targets> {
     for (i, key) in keys.iter().enumerate() {
         let held = Targets {
             ankle_cm: key.feet_cm().map(flat),
-            foot_yaw_deg: [key.heading_deg; 2],
-            planted: [true; 2],
+            foot_yaw_deg: PerFoot::new(key.heading_deg, key.heading_deg),
+            planted: PerFoot::new(true, true),
             heading_deg: key.heading_deg,
             punch: key.punch,
         };
@@ -338,9 +354,9 @@ fn frame_count(duration_s: f64) -> usize {
 fn transition(a: &Key, b: &Key, frames: &mut Vec<Targets>) {
     let (from, to) = (a.feet_cm(), b.feet_cm());
     // Each moving foot gets its own swing window, in frames from the start.
-    let mut swings: [Option<(usize, usize)>; 2] = [None; 2];
+    let mut swings: PerFoot<Option<(usize, usize)>> = PerFoot::new(None, None);
     let mut end = 0;
-    for foot in [b.lead, 1 - b.lead] {
+    for foot in [b.lead, b.lead.other()] {
         let distance_cm = from[foot].distance(to[foot]);
         // Keys are built so that a staying foot's position is recomputed to
         // within rounding; anything more is a real step.
@@ -356,13 +372,13 @@ fn transition(a: &Key, b: &Key, frames: &mut Vec<Targets>) {
         // Punches land late in the step, as the stance settles.
         let punch_s = min_jerk((k as f64 / total as f64 - 0.3) / 0.7);
         let mut t = Targets {
-            ankle_cm: [DVec3::ZERO; 2],
-            foot_yaw_deg: [0.0; 2],
-            planted: [true; 2],
+            ankle_cm: PerFoot::new(DVec3::ZERO, DVec3::ZERO),
+            foot_yaw_deg: PerFoot::new(0.0, 0.0),
+            planted: PerFoot::new(true, true),
             heading_deg: lerp(a.heading_deg, b.heading_deg, s),
-            punch: [0, 1].map(|i| lerp(a.punch[i], b.punch[i], punch_s)),
+            punch: PerFoot::from_fn(|side| lerp(a.punch[side], b.punch[side], punch_s)),
         };
-        for foot in [LEFT, RIGHT] {
+        for foot in Foot::BOTH {
             let (yaw0, yaw1) = (a.heading_deg, b.heading_deg);
             (t.ankle_cm[foot], t.foot_yaw_deg[foot], t.planted[foot]) = match swings[foot] {
                 Some((start, stop)) if k > start && k < stop => {
@@ -403,9 +419,9 @@ fn yaw(degrees: f64) -> DMat3 {
 /// highest point from which both hip joints are within `REACH_FRACTION` of a
 /// straight leg from their ankles.
 fn hips_cm(t: &Targets) -> DVec3 {
-    let mid = (t.ankle_cm[LEFT] + t.ankle_cm[RIGHT]) / 2.0;
+    let mid = (t.ankle_cm.left + t.ankle_cm.right) / 2.0;
     let reach_cm = REACH_FRACTION * (THIGH_CM + SHIN_CM);
-    let height_cm = [LEFT, RIGHT]
+    let height_cm = Foot::BOTH
         .map(|foot| {
             let hip = mid + yaw(t.heading_deg) * hip_offset_cm(foot);
             let horizontal_cm = (hip - t.ankle_cm[foot]).with_y(0.0).length().min(0.99 * reach_cm);
@@ -417,9 +433,8 @@ fn hips_cm(t: &Targets) -> DVec3 {
 }
 
 /// The thigh joint's offset from the hips (the skeleton's OFFSET).
-fn hip_offset_cm(foot: usize) -> DVec3 {
-    let sign = if foot == LEFT { 1.0 } else { -1.0 };
-    DVec3::new(sign * HIP_HALF_WIDTH_CM, -HIP_DROP_CM, 0.0)
+fn hip_offset_cm(foot: Foot) -> DVec3 {
+    DVec3::new(x_sign(foot) * HIP_HALF_WIDTH_CM, -HIP_DROP_CM, 0.0)
 }
 
 /// Two-bone IK: the world rotations of thigh and shin that put the ankle at
@@ -473,7 +488,7 @@ fn pose_frame(rig: &Rig, t: &Targets, values: &mut [f64]) -> DVec3 {
     };
     let hips = hips_cm(t);
     let pelvis = yaw(t.heading_deg);
-    for foot in [LEFT, RIGHT] {
+    for foot in Foot::BOTH {
         let [thigh, leg, ankle] = rig.legs[foot];
         let foot_world = yaw(t.foot_yaw_deg[foot]);
         let hip = hips + pelvis * hip_offset_cm(foot);
@@ -486,7 +501,7 @@ fn pose_frame(rig: &Rig, t: &Targets, values: &mut [f64]) -> DVec3 {
         let [upper_zyx, fore_zyx] = left_arm_zyx_degrees(t.punch[foot]);
         // The right arm mirrors the left across the X = 0 plane, which
         // negates rotations about Z and Y.
-        let mirror = |[z, y, x]: [f64; 3]| if foot == LEFT { [z, y, x] } else { [-z, -y, x] };
+        let mirror = |[z, y, x]: [f64; 3]| if foot == Foot::Left { [z, y, x] } else { [-z, -y, x] };
         set(arm, mirror(upper_zyx));
         set(forearm, mirror(fore_zyx));
     }
@@ -545,7 +560,7 @@ mod tests {
         let keys = kata();
         for (i, pair) in keys.windows(2).enumerate() {
             let (a, b) = (pair[0].feet_cm(), pair[1].feet_cm());
-            let moved = (0..2).filter(|&f| a[f].distance(b[f]) > 1e-6).count();
+            let moved = Foot::BOTH.iter().filter(|&&f| a[f].distance(b[f]) > 1e-6).count();
             let expected = if i + 2 == keys.len() { 2 } else { 1 };
             assert_eq!(moved, expected, "key {} -> {}", i, i + 1);
         }

@@ -1,18 +1,32 @@
 //! Shared helpers for the integration tests.
 #![allow(dead_code)]
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// `../shared/data` beside the project, or `None` after saying loudly that the
-/// tests needing it are skipped (they must never pass silently).
+/// `../shared/data` beside the project, or `None` after printing
+/// `SKIPPED: <path> not found; <test> did not run` to stderr, `<test>` being
+/// the name of the calling test (libtest names each test's thread after it).
+///
+/// Panics instead when `CI=true`: CI runs with the data beside the clone, so
+/// a missing folder there is a broken setup, not a reason to pass.
 pub fn data_dir() -> Option<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data");
     if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("SKIPPED: {} not found; tests on the real recordings did not run", dir.display());
-        None
+        return Some(dir);
     }
+    let thread = std::thread::current();
+    let test = thread.name().unwrap_or("this test");
+    if std::env::var("CI").is_ok_and(|ci| ci == "true") {
+        panic!(
+            "{} not found: CI=true needs the shared data beside the clone; {test} cannot run",
+            dir.display()
+        );
+    }
+    // Straight to the process's stderr: libtest captures `eprintln!` of a
+    // passing test, which would hide the skip.
+    let _ = writeln!(std::io::stderr(), "SKIPPED: {} not found; {test} did not run", dir.display());
+    None
 }
 
 /// The files in `dir` ending in `.ext`, sorted.

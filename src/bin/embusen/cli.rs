@@ -9,7 +9,6 @@ use embusen::Error;
 use embusen::eval::metrics::{floor_path_cm, mean_floor_error_cm};
 use embusen::io::recording::{FeetChoice, Recording};
 use embusen::io::table::Accelerations;
-use embusen::signal::stats::median;
 use embusen::synth::demo;
 use embusen::translate::contact::{ContactParams, Support};
 use embusen::translate::paper::{PaperParams, Smoothing};
@@ -139,53 +138,23 @@ fn expand(inputs: &[PathBuf]) -> Vec<PathBuf> {
 }
 
 fn run_eval(inputs: &[PathBuf], closure: &[PathBuf]) -> ExitCode {
-    use embusen::eval::{Accuracy, evaluate_groundtruth, kata_closure_cm, motion_type};
-    let methods = [Method::Paper(PaperParams::default()), Method::default()];
+    use embusen::eval::kata_closure_cm;
+    use embusen::eval::summary::{evaluate_file, format_file, format_header, format_summary, summarise};
     let mut failed = 0;
-    // (motion type, [paper, contact]) per file.
-    let mut rows: Vec<(String, [Accuracy; 2])> = Vec::new();
-    println!("ground truth: translation frozen root→hips, re-estimated, compared with the truth");
-    println!(
-        "{:<36} {:>8} | {:>17} | {:>17} | {:>13} | {:>20} | {:>13}",
-        "file",
-        "path m",
-        "mean err % p/c",
-        "final err % p/c",
-        "ratio p/c",
-        "skate cm/s p/c truth",
-        "vert cm p/c"
-    );
+    let mut files = Vec::new();
+    println!("{}", format_header());
     for path in expand(inputs) {
         let name = path.file_name().map_or(path.display().to_string(), |n| n.to_string_lossy().into_owned());
         let result = load(&path, None).and_then(|recording| match &recording.source {
-            embusen::io::recording::Source::Bvh(bvh) => {
-                let paper = evaluate_groundtruth(bvh, &name, &methods[0])?;
-                let contact = evaluate_groundtruth(bvh, &name, &methods[1])?;
-                Ok([paper, contact])
-            }
+            embusen::io::recording::Source::Bvh(bvh) => evaluate_file(bvh, &name),
             embusen::io::recording::Source::Table(_) => {
                 Err(Error::whole(&name, "ground truth must be a BVH (its root channels are the truth)"))
             }
         });
         match result {
-            Ok([p, c]) => {
-                println!(
-                    "{:<36} {:>8.2} | {:>8.2} {:>8.2} | {:>8.2} {:>8.2} | {:>6.3} {:>6.3} | {:>6.2} {:>6.2} {:>6.2} | {:>6.1} {:>6.1}",
-                    name,
-                    c.true_path_cm / 100.0,
-                    p.mean_error_pct,
-                    c.mean_error_pct,
-                    p.final_error_pct,
-                    c.final_error_pct,
-                    p.path_ratio,
-                    c.path_ratio,
-                    p.skating_cm_per_s,
-                    c.skating_cm_per_s,
-                    c.truth_skating_cm_per_s,
-                    p.vertical_error_cm,
-                    c.vertical_error_cm
-                );
-                rows.push((motion_type(&name), [p, c]));
+            Ok(file) => {
+                println!("{}", format_file(&file));
+                files.push(file);
             }
             Err(e) => {
                 eprintln!("error: {e}");
@@ -193,53 +162,10 @@ fn run_eval(inputs: &[PathBuf], closure: &[PathBuf]) -> ExitCode {
             }
         }
     }
-    // Medians per motion type and over all files. Percentages of a path make
-    // no sense for motions that stay in place (bow), so those are left out
-    // of the percentage medians but kept in skating and vertical error.
-    let mut types: Vec<String> = rows.iter().map(|(t, _)| t.clone()).collect();
-    types.sort();
-    types.dedup();
-    let moving = |a: &Accuracy| a.true_path_cm >= 50.0;
-    let summary = |label: &str, selected: Vec<&[Accuracy; 2]>| {
-        let col = |m: usize, f: fn(&Accuracy) -> f64, only_moving: bool| {
-            let v: Vec<f64> =
-                selected.iter().map(|r| &r[m]).filter(|a| !only_moving || moving(a)).map(f).collect();
-            median(&v)
-        };
-        println!(
-            "{:<36} {:>8} | {:>8.2} {:>8.2} | {:>8.2} {:>8.2} | {:>6.3} {:>6.3} | {:>6.2} {:>6.2} {:>6.2} | {:>6.1} {:>6.1}",
-            label,
-            selected.len(),
-            col(0, |a| a.mean_error_pct, true),
-            col(1, |a| a.mean_error_pct, true),
-            col(0, |a| a.final_error_pct, true),
-            col(1, |a| a.final_error_pct, true),
-            col(0, |a| a.path_ratio, true),
-            col(1, |a| a.path_ratio, true),
-            col(0, |a| a.skating_cm_per_s, false),
-            col(1, |a| a.skating_cm_per_s, false),
-            col(1, |a| a.truth_skating_cm_per_s, false),
-            col(0, |a| a.vertical_error_cm, false),
-            col(1, |a| a.vertical_error_cm, false)
-        );
-    };
-    if !rows.is_empty() {
-        println!(
-            "medians (percentages and ratios over files whose hips travel ≥ 0.5 m; the count is all files):"
-        );
-        for t in &types {
-            summary(&format!("  {t}"), rows.iter().filter(|(k, _)| k == t).map(|(_, r)| r).collect());
-        }
-        summary("  all", rows.iter().map(|(_, r)| r).collect());
-        // A percentage of a path that is not there says nothing: in-place
-        // files are left out of the count.
-        let moved: Vec<_> = rows.iter().filter(|(_, [_, c])| moving(c)).collect();
-        let better = moved.iter().filter(|(_, [p, c])| c.mean_error_pct < p.mean_error_pct).count();
-        println!(
-            "contact beats paper on mean error in {better} of {} files whose hips travel ≥ 0.5 m",
-            moved.len()
-        );
+    if !files.is_empty() {
+        print!("{}", format_summary(&summarise(&files)));
     }
+    let methods = [Method::Paper(PaperParams::default()), Method::default()];
     let closure_files = expand(closure);
     if !closure_files.is_empty() {
         println!("katas: hips floor distance between the first and last frame, vendor translation removed");
