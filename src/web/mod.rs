@@ -13,7 +13,6 @@ use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement, WebGl2RenderingContex
 
 use crate::app::plot::{self, Layout, Stance, TextMeasure};
 use crate::app::session::{Session, Settings};
-use crate::body::feet::Foot;
 use crate::io::recording::{FeetChoice, Recording};
 use crate::io::table::Accelerations;
 use crate::translate::paper::Smoothing;
@@ -244,7 +243,7 @@ impl Player {
         let frame = self.frame() as usize;
         if self.drawn_frame != Some(frame) || self.scene_dirty {
             let pinned = match session.plot_data.stance.get(frame) {
-                Some(Stance::Pinned(foot, _)) => Some((session.translated.feet[*foot], *foot == Foot::Left)),
+                Some(Stance::Pinned(foot, _)) => Some((session.translated.feet[*foot], *foot)),
                 _ => None,
             };
             self.scene.set_frame(
