@@ -6,3 +6,4 @@
 
 pub mod plot;
 pub mod session;
+pub mod theme;

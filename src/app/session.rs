@@ -3,7 +3,7 @@
 //! the wasm player stays a thin shell over it and tests can drive it natively.
 
 use crate::app::plot::{PlotData, Stance, StanceReason};
-use crate::body::feet::Foot;
+use crate::body::feet::{Foot, PerFoot};
 use crate::error::Error;
 use crate::io::recording::{FeetChoice, Recording};
 use crate::translate::contact::{ContactParams, Support};
@@ -104,7 +104,7 @@ pub fn plot_data(recording: &Recording, t: &Translated, settings: &Settings) -> 
     };
     let (foot_signal, foot_signal_label, stance) = match &t.decisions {
         Decisions::Paper(paper) => (
-            [paper.accel_smoothed_g.left.clone(), paper.accel_smoothed_g.right.clone()],
+            paper.accel_smoothed_g.clone(),
             match settings.paper.smoothing {
                 Smoothing::Faithful => "smoothed acceleration (g), R smoother".to_string(),
                 Smoothing::Clean => "smoothed acceleration (g)".to_string(),
@@ -123,7 +123,10 @@ pub fn plot_data(recording: &Recording, t: &Translated, settings: &Settings) -> 
                 .collect(),
         ),
         Decisions::Contact(contact) => (
-            contact.clearance_cm.clone(),
+            {
+                let [left, right] = contact.clearance_cm.clone();
+                PerFoot::new(left, right)
+            },
             "foot clearance above the floor (cm)".to_string(),
             contact
                 .support
@@ -140,8 +143,8 @@ pub fn plot_data(recording: &Recording, t: &Translated, settings: &Settings) -> 
         fps: recording.fps,
         foot_signal,
         foot_signal_label,
-        heights_before_cm: [heights(&recording.poses, Foot::Left), heights(&recording.poses, Foot::Right)],
-        heights_after_cm: [heights(&t.poses, Foot::Left), heights(&t.poses, Foot::Right)],
+        heights_before_cm: PerFoot::from_fn(|foot| heights(&recording.poses, foot)),
+        heights_after_cm: PerFoot::from_fn(|foot| heights(&t.poses, foot)),
         hips_before_cm: recording.poses.trajectory(t.hips),
         hips_after_cm: t.poses.trajectory(t.hips),
         stance,

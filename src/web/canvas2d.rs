@@ -1,11 +1,38 @@
-//! Paints a [`Figure`] on a canvas 2D context. All layout, scaling and
-//! decimation happened in [`crate::app::plot`]; this only turns shapes into canvas
-//! calls, so it stays too thin to need tests of its own.
+//! Paints a [`Figure`] on a canvas 2D context, and measures its text there.
+//! All layout, scaling and decimation happened in [`crate::app::plot`]; this
+//! only turns shapes into canvas calls, so it stays too thin to need tests of
+//! its own.
+
+use std::cell::Cell;
 
 use wasm_bindgen::JsValue;
 use web_sys::CanvasRenderingContext2d;
 
-use crate::app::plot::{Align, DASH_PX, FONT_FAMILY, Figure, Shape};
+use crate::app::plot::{Align, DASH_PX, FONT_FAMILY, Figure, Shape, TextMeasure};
+
+/// The canvas font of text at `size_px`.
+fn font(size_px: f32) -> String {
+    format!("{size_px}px {FONT_FAMILY}")
+}
+
+/// Text widths as [`paint`] draws text on `ctx`: the returned function gives
+/// the width in pixels of `text` at `size_px`, from `measureText`, for
+/// [`TextMeasure::With`]. It sets `ctx`'s font; where the canvas cannot
+/// measure, it falls back to [`TextMeasure::Estimate`].
+pub fn measure_text(ctx: &CanvasRenderingContext2d) -> impl Fn(&str, f32) -> f32 + '_ {
+    let font_size_px = Cell::new(f32::NAN);
+    move |text: &str, size_px: f32| {
+        // Setting the font parses CSS; the layout measures runs of one size.
+        if size_px != font_size_px.get() {
+            ctx.set_font(&font(size_px));
+            font_size_px.set(size_px);
+        }
+        match ctx.measure_text(text) {
+            Ok(metrics) => metrics.width() as f32,
+            Err(_) => TextMeasure::Estimate.width_px(text, size_px),
+        }
+    }
+}
 
 /// Paints every shape of `figure`, in order, onto `ctx`, and nothing else: it
 /// neither clears the canvas nor paints a background. Leaves the line dash
@@ -48,7 +75,7 @@ pub fn paint(ctx: &CanvasRenderingContext2d, figure: &Figure) {
             }
             Shape::Text { x, y, text, color, size_px, align, vertical } => {
                 if *size_px != font_size_px {
-                    ctx.set_font(&format!("{size_px}px {FONT_FAMILY}"));
+                    ctx.set_font(&font(*size_px));
                     font_size_px = *size_px;
                 }
                 ctx.set_text_align(match align {

@@ -13,9 +13,8 @@ use std::sync::Arc;
 use wasm_bindgen::prelude::*;
 use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement, WebGl2RenderingContext};
 
-use crate::app::plot::{self, Layout, Stance};
+use crate::app::plot::{self, Layout, Stance, TextMeasure};
 use crate::app::session::{Session, Settings};
-use crate::body::feet::Foot;
 use crate::io::recording::{FeetChoice, Recording};
 use crate::io::table::Accelerations;
 use crate::translate::paper::Smoothing;
@@ -90,7 +89,7 @@ impl Player {
             view,
             plots,
             plots_static,
-            layout: plot::layout(1.0, 1.0),
+            layout: plot::layout(1.0, 1.0, TextMeasure::Estimate),
             scene: Scene::new(context),
             session: None,
             time_s: 0.0,
@@ -204,7 +203,8 @@ impl Player {
         self.plots.set_height(plots_height.max(1));
         self.plots_static.set_width(plots_width.max(1));
         self.plots_static.set_height(plots_height.max(1));
-        self.layout = plot::layout(plots_width as f32, plots_height as f32);
+        let (w, h) = (plots_width as f32, plots_height as f32);
+        self.layout = plot::layout(w, h, TextMeasure::With(&canvas2d::measure_text(&self.plots_2d)));
         self.repaint_all();
     }
 
@@ -212,7 +212,8 @@ impl Player {
         let Some(session) = &self.session else { return };
         let Ok(ctx) = context_2d(&self.plots_static) else { return };
         ctx.clear_rect(0.0, 0.0, self.plots_static.width() as f64, self.plots_static.height() as f64);
-        canvas2d::paint(&ctx, &plot::draw_static(&session.plot_data, &self.layout));
+        let text = canvas2d::measure_text(&ctx);
+        canvas2d::paint(&ctx, &plot::draw_static(&session.plot_data, &self.layout, TextMeasure::With(&text)));
     }
 
     /// Advances playback by `dt_s` seconds of wall time (when playing) and
@@ -244,7 +245,7 @@ impl Player {
         let frame = self.frame() as usize;
         if self.drawn_frame != Some(frame) || self.scene_dirty {
             let pinned = match session.plot_data.stance.get(frame) {
-                Some(Stance::Pinned(foot, _)) => Some((session.translated.feet[*foot], *foot == Foot::Left)),
+                Some(Stance::Pinned(foot, _)) => Some((session.translated.feet[*foot], *foot)),
                 _ => None,
             };
             self.scene.set_frame(
@@ -258,7 +259,9 @@ impl Player {
             let (w, h) = (self.plots.width() as f64, self.plots.height() as f64);
             self.plots_2d.clear_rect(0.0, 0.0, w, h);
             let _ = self.plots_2d.draw_image_with_html_canvas_element(&self.plots_static, 0.0, 0.0);
-            canvas2d::paint(&self.plots_2d, &plot::draw_cursor(&session.plot_data, frame, &self.layout));
+            let text = canvas2d::measure_text(&self.plots_2d);
+            let cursor = plot::draw_cursor(&session.plot_data, frame, &self.layout, TextMeasure::With(&text));
+            canvas2d::paint(&self.plots_2d, &cursor);
             self.drawn_frame = Some(frame);
         }
         // The camera may have moved even when the frame did not.

@@ -9,6 +9,8 @@
 
 use three_d::*;
 
+use crate::app::theme::{self, Rgba};
+use crate::body::feet::Foot;
 use crate::body::skeleton::Poses;
 
 /// How the original (uncorrected) skeleton is shown.
@@ -30,15 +32,13 @@ const PINNED_RADIUS_M: f32 = 0.06;
 const MAX_TRAIL_SEGMENTS: usize = 3000;
 const TRAIL_HALF_WIDTH_M: f32 = 0.012;
 
-const SOLID: Srgba = Srgba::new(235, 235, 240, 255);
-const GHOST: Srgba = Srgba::new(120, 160, 255, 90);
-const CORRECTED_TRAIL: Srgba = Srgba::new(255, 200, 40, 255);
-const ORIGINAL_TRAIL: Srgba = Srgba::new(90, 140, 255, 200);
-const GRID: [u8; 4] = [70, 74, 82, 255];
 /// Grid spacing on the floor.
 const GRID_CELL_M: f32 = 0.5;
-const LEFT_FOOT: Srgba = Srgba::new(255, 90, 90, 255);
-const RIGHT_FOOT: Srgba = Srgba::new(70, 200, 120, 255);
+
+/// A theme colour as three-d takes it.
+const fn srgba(Rgba(r, g, b, a): Rgba) -> Srgba {
+    Srgba::new(r, g, b, a)
+}
 
 /// An orbiting camera: it looks at `target` from `distance_m` away, turned by
 /// `yaw` about the up axis and raised by `pitch`.
@@ -140,8 +140,10 @@ fn add_ribbon(mesh: &mut CpuMesh, points: &[Vec3], color: Srgba) {
 /// repeated across the floor quad by its texture coordinates.
 fn grid_cell() -> CpuTexture {
     const SIZE: usize = 64;
-    let data =
-        (0..SIZE * SIZE).map(|i| if i % SIZE < 2 || i / SIZE < 2 { GRID } else { [0, 0, 0, 0] }).collect();
+    let Rgba(r, g, b, a) = theme::FLOOR_GRID;
+    let data = (0..SIZE * SIZE)
+        .map(|i| if i % SIZE < 2 || i / SIZE < 2 { [r, g, b, a] } else { [0, 0, 0, 0] })
+        .collect();
     CpuTexture {
         data: TextureData::RgbaU8(data),
         width: SIZE as u32,
@@ -179,10 +181,10 @@ impl Scene {
             ),
         );
         Scene {
-            joints: instanced(&context, &sphere, SOLID, false),
-            bones: instanced(&context, &cylinder, SOLID, false),
-            ghost_joints: instanced(&context, &sphere, GHOST, true),
-            ghost_bones: instanced(&context, &cylinder, GHOST, true),
+            joints: instanced(&context, &sphere, srgba(theme::CORRECTED_SKELETON), false),
+            bones: instanced(&context, &cylinder, srgba(theme::CORRECTED_SKELETON), false),
+            ghost_joints: instanced(&context, &sphere, srgba(theme::ORIGINAL_SKELETON), true),
+            ghost_bones: instanced(&context, &cylinder, srgba(theme::ORIGINAL_SKELETON), true),
             trails,
             grid,
             hips: 0,
@@ -248,7 +250,7 @@ impl Scene {
         self.grid.geometry = Mesh::new(&self.context, &quad);
         let mut ribbons =
             CpuMesh { positions: Positions::F32(Vec::new()), colors: Some(Vec::new()), ..Default::default() };
-        for (trail, color) in [(&hips_before, ORIGINAL_TRAIL), (&hips_after, CORRECTED_TRAIL)] {
+        for (trail, color) in [(&hips_before, theme::ORIGINAL), (&hips_after, theme::CORRECTED)] {
             let stride = (trail.len() / MAX_TRAIL_SEGMENTS).max(1);
             let points: Vec<Vec3> = trail
                 .iter()
@@ -256,7 +258,7 @@ impl Scene {
                 .filter(|p| p.x.is_finite() && p.z.is_finite())
                 .map(|p| vec3(p.x, floor_y + 0.003, p.z))
                 .collect();
-            add_ribbon(&mut ribbons, &points, color);
+            add_ribbon(&mut ribbons, &points, srgba(color));
         }
         self.trails.geometry = Mesh::new(&self.context, &ribbons);
         self.hips = hips;
@@ -269,14 +271,15 @@ impl Scene {
         self.side_offset = vec3(height.clamp(0.5, 2.0) * 1.2, 0.0, 0.0);
     }
 
-    /// Moves the skeletons to frame `f`, highlighting the pinned foot.
+    /// Moves the skeletons to frame `f`, highlighting the pinned foot: its
+    /// joint, and which foot it is.
     pub fn set_frame(
         &mut self,
         original: &Poses,
         corrected: &Poses,
         parents: &[Option<usize>],
         f: usize,
-        pinned: Option<(usize, bool)>,
+        pinned: Option<(usize, Foot)>,
     ) {
         if f >= corrected.frame_count() {
             return;
@@ -284,12 +287,12 @@ impl Scene {
         let solid: Vec<Vec3> = corrected.frame(f).iter().map(|p| self.to_world(*p)).collect();
         let (joints, bones) = self.skeleton_instances(&solid, parents, Vec3::new(0.0, 0.0, 0.0));
         let mut joints = joints;
-        let mut colors = vec![SOLID; joints.len()];
-        if let Some((joint, is_left)) = pinned
+        let mut colors = vec![srgba(theme::CORRECTED_SKELETON); joints.len()];
+        if let Some((joint, foot)) = pinned
             && let Some(p) = solid.get(joint)
         {
             joints.push(ball(*p, PINNED_RADIUS_M));
-            colors.push(if is_left { LEFT_FOOT } else { RIGHT_FOOT });
+            colors.push(srgba(theme::FEET[foot]));
         }
         self.joints.set_instances(&Instances {
             transformations: joints,
@@ -368,7 +371,9 @@ impl Scene {
         self.camera.set_view(self.orbit.position(), self.orbit.target, vec3(0.0, 1.0, 0.0));
         let lights: [&dyn Light; 2] = [&self.ambient, &self.sun];
         let target = RenderTarget::screen(&self.context, width.max(1), height.max(1));
-        target.clear(ClearState::color_and_depth(0.11, 0.12, 0.14, 1.0, 1.0));
+        let Rgba(r, g, b, a) = theme::VIEW_BACKGROUND;
+        let [r, g, b, a] = [r, g, b, a].map(|c| f32::from(c) / 255.0);
+        target.clear(ClearState::color_and_depth(r, g, b, a, 1.0));
         target.render(&self.camera, self.grid.into_iter().chain(&self.trails), &[]);
         target.render(&self.camera, self.joints.into_iter().chain(&self.bones), &lights);
         if self.ghost_mode != GhostMode::Hidden {

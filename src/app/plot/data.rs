@@ -1,0 +1,72 @@
+//! What the plots show: one frame-by-frame record of a translation, built by
+//! [`crate::app::session::plot_data`].
+
+use glam::DVec3;
+
+use crate::body::feet::{Foot, PerFoot};
+
+/// Why a frame's stance is what it is: which foot the method held still, and
+/// which rule made it do so.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum StanceReason {
+    /// Paper pass 1: the foot with the lower smoothed acceleration.
+    Acceleration,
+    /// Paper pass 2: the lower foot, where the heights differ by more than dyEps.
+    Height,
+    /// Both passes pinned this foot.
+    Both,
+    /// The contact method: this foot alone is on the floor.
+    Contact,
+}
+
+/// One frame of the stance strip.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Stance {
+    /// No foot pinned (e.g. the paper method's zeroed tails).
+    Free,
+    Pinned(Foot, StanceReason),
+    /// Neither foot on the floor (running, jumps).
+    Flight,
+    /// Both feet on the floor: the contact method's double support.
+    Double,
+}
+
+impl Stance {
+    /// True for the contact method's decisions that the paper method never
+    /// makes: one foot alone on the floor, or both.
+    pub const fn is_contact(self) -> bool {
+        matches!(self, Stance::Pinned(_, StanceReason::Contact) | Stance::Double)
+    }
+}
+
+/// Everything the plots show, frame by frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PlotData {
+    pub fps: f64,
+    /// (a) the signal that chose the planted foot, and its label with unit,
+    /// e.g. "smoothed acceleration (g)".
+    pub foot_signal: PerFoot<Vec<f64>>,
+    pub foot_signal_label: String,
+    /// (b) foot heights before correction, cm.
+    pub heights_before_cm: PerFoot<Vec<f64>>,
+    /// (c) foot heights after correction, cm.
+    pub heights_after_cm: PerFoot<Vec<f64>>,
+    /// (d) hips on the floor, before and after (X/Z used; Y is up).
+    pub hips_before_cm: Vec<DVec3>,
+    pub hips_after_cm: Vec<DVec3>,
+    /// (e) the stance strip.
+    pub stance: Vec<Stance>,
+}
+
+impl PlotData {
+    /// The number of frames the plots span: the length of the longest series.
+    /// They normally all have one entry per frame; a shorter one is drawn as
+    /// far as it goes.
+    pub fn frame_count(&self) -> usize {
+        let feet = [&self.foot_signal, &self.heights_before_cm, &self.heights_after_cm]
+            .into_iter()
+            .flat_map(|series| Foot::BOTH.map(|foot| series[foot].len()));
+        let rest = [self.hips_before_cm.len(), self.hips_after_cm.len(), self.stance.len()];
+        feet.chain(rest).max().unwrap_or(0)
+    }
+}
