@@ -4,5 +4,6 @@
 //! import everything below it (`translate`, `io`, `body`, `synth`, `signal`);
 //! only `web` and the CLI import it.
 
+pub mod clock;
 pub mod plot;
 pub mod session;
