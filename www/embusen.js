@@ -463,6 +463,8 @@ export async function mount(element, options = {}) {
   /** @param {string} message */
   const showPanic = (message) => {
     stopLoop();
+    playButton.textContent = "▶";
+    playButton.disabled = true;
     showError(`embusen stopped on an internal error; reload the page. ${message}`);
   };
   panicked.add(showPanic);
