@@ -34,7 +34,8 @@ ensure_wasm_bindgen() {
 }
 
 ensure_node_packages() {
-    if [ ! -x node_modules/.bin/wasm-opt ] || [ ! -d node_modules/playwright-core ] || [ ! -d node_modules/three ]; then
+    if [ ! -x node_modules/.bin/wasm-opt ] || [ ! -x node_modules/.bin/tsc ] || [ ! -d node_modules/playwright-core ] \
+        || [ ! -d node_modules/three ]; then
         npm ci --no-audit --no-fund
     fi
 }
@@ -56,7 +57,7 @@ cmd_build() {
     cargo build --lib --release --target "$WASM_TARGET"
     rm -rf dist
     mkdir -p dist/pkg
-    wasm-bindgen --target web --no-typescript --out-dir dist/pkg \
+    wasm-bindgen --target web --out-dir dist/pkg \
         "target/$WASM_TARGET/release/embusen.wasm"
     # npm's binaryen: Debian's wasm-opt (108) breaks this module.
     node_modules/.bin/wasm-opt -O3 --enable-bulk-memory --enable-nontrapping-float-to-int \
@@ -81,6 +82,8 @@ cmd_test() {
     cargo clippy --lib --target "$WASM_TARGET" --quiet -- -D warnings
     cargo test --release
     cmd_build
+    # The JS shell against the TypeScript types of the wasm API (tsconfig.json).
+    node_modules/.bin/tsc -p tsconfig.json
     ensure_chromium
     CHROMEDRIVER=/usr/bin/chromedriver WASM_BINDGEN_TEST_TIMEOUT=120 \
         cargo test --release --target "$WASM_TARGET" --test wasm

@@ -1,13 +1,16 @@
 //! The wasm API in a real browser (`./build.sh test` runs it through
 //! wasm-bindgen-test-runner and Chromium): a player over two canvases opens
-//! the demo, plays, seeks, recomputes, exports, and survives bad input.
+//! the demo, plays, seeks, recomputes, exports, and survives bad input; the
+//! settings and results cross as typed objects, an unknown value an error.
 
 // A test may panic on what it does not expect: that is how it fails.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![cfg(target_arch = "wasm32")]
 
 use embusen::web::Player;
-use wasm_bindgen::JsCast;
+use embusen::web::api::{self, Ghost, Method, Smoothing};
+use tsify::{Ts, Tsify};
+use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
 use web_sys::HtmlCanvasElement;
 
@@ -20,6 +23,23 @@ fn canvas(width: u32, height: u32) -> HtmlCanvasElement {
     canvas.set_height(height);
     document.body().unwrap().append_child(&canvas).unwrap();
     canvas
+}
+
+/// The settings in use with `change` applied.
+fn settings(player: &Player, change: impl FnOnce(&mut api::Settings)) -> Ts<api::Settings> {
+    let mut settings = player.settings().unwrap().to_rust().unwrap();
+    change(&mut settings);
+    settings.into_ts().unwrap()
+}
+
+/// A JavaScript value as the page might send it, from JSON.
+fn js(json: &str) -> JsValue {
+    js_sys::JSON::parse(json).unwrap()
+}
+
+fn error_message(e: wasm_bindgen::JsError) -> String {
+    let value: JsValue = e.into();
+    js_sys::Reflect::get(&value, &"message".into()).unwrap().as_string().unwrap()
 }
 
 fn player() -> Player {
@@ -35,7 +55,9 @@ fn demo_opens_and_plays() {
     let demo = embusen::synth::demo::demo();
     assert_eq!(player.frame_count() as usize, demo.true_root_cm.len());
     assert_eq!(player.fps(), 100.0);
-    assert_eq!(player.feet(), ["LeftFoot", "RightFoot"]);
+    let info = player.info().unwrap().to_rust().unwrap();
+    assert_eq!((info.feet.left.as_str(), info.feet.right.as_str()), ("LeftFoot", "RightFoot"));
+    assert_eq!(info.frame_count, demo.true_root_cm.len());
     assert_eq!(player.frame(), 0);
     player.set_playing(true);
     player.tick(0.1);
@@ -56,23 +78,87 @@ fn bad_input_keeps_the_open_recording() {
     assert!(player.load("broken.bvh", text, None, None).is_err());
     assert_eq!(player.frame_count(), frames);
     assert_eq!(player.frame(), 42);
-    assert_eq!(player.name(), embusen::synth::demo::DEMO_NAME);
-    assert!(player.set_settings("paper", "clean", 1.0, 5.0, "NoSuchJoint", "", None).is_err());
-    assert_eq!(player.feet(), ["LeftFoot", "RightFoot"]);
+    assert_eq!(player.info().unwrap().to_rust().unwrap().name, embusen::synth::demo::DEMO_NAME);
+    let before = player.settings().unwrap().to_rust().unwrap();
+    let bad = settings(&player, |s| {
+        s.method = Method::Paper;
+        s.left_foot = Some("NoSuchJoint".to_string());
+    });
+    assert!(player.set_settings(bad).is_err());
+    assert_eq!(player.settings().unwrap().to_rust().unwrap(), before, "nothing changed");
+    assert_eq!(player.info().unwrap().to_rust().unwrap().feet.left, "LeftFoot");
+}
+
+#[wasm_bindgen_test]
+fn unknown_values_and_fields_are_errors_that_name_them() {
+    let mut player = player();
+    let good = r#"{"method":"paper","smoothing":"clean","window_s":1,"dy_eps_cm":5,"sole_depth_cm":null,"left_foot":null,"right_foot":null}"#;
+    player.set_settings(Ts::new_unchecked(js(good))).unwrap();
+    assert_eq!(player.settings().unwrap().to_rust().unwrap().method, Method::Paper);
+    let cases = [
+        (good.replace("\"paper\"", "\"papier\""), "papier"),
+        (good.replace("\"clean\"", "\"smooth\""), "smooth"),
+        (good.replace("\"window_s\"", "\"window\""), "window"),
+        (good.replace("}", r#","alpha":2}"#), "alpha"),
+        (good.replace("\"dy_eps_cm\":5", "\"dy_eps_cm\":500"), "500"),
+        (good.replace("\"sole_depth_cm\":null", "\"sole_depth_cm\":-1"), "-1"),
+    ];
+    for (json, named) in cases {
+        let Err(e) = player.set_settings(Ts::new_unchecked(js(&json))) else { panic!("{json} was taken") };
+        let message = error_message(e);
+        assert!(message.contains(named), "{json}: {message}");
+    }
+    assert_eq!(player.settings().unwrap().to_rust().unwrap().smoothing, Smoothing::Clean, "unchanged");
+    player.set_ghost(Ghost::Side.into_ts().unwrap()).unwrap();
+    let message = error_message(player.set_ghost(Ts::new_unchecked("sideways".into())).unwrap_err());
+    assert!(message.contains("sideways"), "{message}");
+}
+
+#[wasm_bindgen_test]
+fn the_options_defaults_are_the_players() {
+    let options = embusen::web::options().unwrap().to_rust().unwrap();
+    let player = player();
+    let defaults = &options.defaults;
+    assert_eq!(player.settings().unwrap().to_rust().unwrap(), defaults.settings);
+    assert_eq!(defaults.settings.method, Method::Contact);
+    assert_eq!((defaults.settings.window_s, defaults.settings.dy_eps_cm), (1.0, 5.0), "RMoCap's");
+    assert_eq!(defaults.settings.sole_depth_cm, None, "estimated");
+    assert_eq!(options.sole_depths_cm, embusen::translate::contact::SOLE_DEPTHS_CM);
+    assert!(options.speeds.contains(&defaults.speed));
+    assert!(options.methods.iter().any(|m| m.value == Method::Paper));
+    assert_eq!(defaults.ghost, Ghost::Overlay);
+    // Every offered choice is accepted.
+    let mut player = player;
+    for depth in options.sole_depths_cm.iter().map(|&d| Some(d)).chain([None]) {
+        player.set_settings(settings(&player, |s| s.sole_depth_cm = depth)).unwrap();
+    }
+    for ghost in &options.ghosts {
+        player.set_ghost(ghost.value.into_ts().unwrap()).unwrap();
+    }
 }
 
 #[wasm_bindgen_test]
 fn settings_recompute_and_exports_match_the_core() {
     let mut player = player();
-    assert_eq!(player.method(), "contact", "contact is the default");
-    let contact = player.export_hips_csv();
-    player.set_settings("paper", "faithful", 1.0, 5.0, "", "", None).unwrap();
-    let faithful = player.export_hips_csv();
-    assert_ne!(contact[1], faithful[1]);
-    player.set_settings("paper", "clean", 0.5, 3.0, "", "", None).unwrap();
-    let clean = player.export_hips_csv();
-    assert_eq!(clean[0], "recording.hips.csv");
-    assert_ne!(faithful[1], clean[1]);
+    assert_eq!(player.info().unwrap().to_rust().unwrap().method, Method::Contact, "contact is the default");
+    let sole = player.info().unwrap().to_rust().unwrap().sole_depth.unwrap();
+    assert!(sole.estimated);
+    let hips = |player: &Player| player.export_hips_csv().unwrap().to_rust().unwrap();
+    let contact = hips(&player);
+    player.set_settings(settings(&player, |s| s.method = Method::Paper)).unwrap();
+    assert_eq!(player.info().unwrap().to_rust().unwrap().sole_depth, None, "the paper method has no sole");
+    let faithful = hips(&player);
+    assert_ne!(contact.text, faithful.text);
+    player
+        .set_settings(settings(&player, |s| {
+            s.smoothing = Smoothing::Clean;
+            s.window_s = 0.5;
+            s.dy_eps_cm = 3.0;
+        }))
+        .unwrap();
+    let clean = hips(&player);
+    assert_eq!(clean.name, "recording.hips.csv");
+    assert_ne!(faithful.text, clean.text);
     // The exported BVH is what the core writes for the same settings.
     let recording = embusen::synth::demo::demo().recording();
     let mut settings = embusen::app::session::Settings { use_paper: true, ..Default::default() };
@@ -80,7 +166,7 @@ fn settings_recompute_and_exports_match_the_core() {
     settings.paper.window_s = 0.5;
     settings.paper.dy_eps_cm = 3.0;
     let session = embusen::app::session::Session::open(recording, settings).unwrap();
-    assert_eq!(player.export_recording()[1], session.export_recording().1);
+    assert_eq!(player.export_recording().unwrap().to_rust().unwrap().text, session.export_recording().1);
 }
 
 #[wasm_bindgen_test]
@@ -97,4 +183,34 @@ fn clicking_a_plot_seeks() {
     }
     assert!(moved, "no plot position seeks");
     assert!(!player.seek_plot(-10.0, -10.0));
+}
+
+#[wasm_bindgen_test]
+fn a_panic_report_reaches_the_page() {
+    use std::cell::RefCell;
+    use std::rc::Rc;
+    use wasm_bindgen::closure::Closure;
+    let got = Rc::new(RefCell::new(None));
+    let sink = got.clone();
+    let listener = Closure::<dyn FnMut(web_sys::CustomEvent)>::new(move |e: web_sys::CustomEvent| {
+        *sink.borrow_mut() = e.detail().as_string();
+    });
+    let window = web_sys::window().unwrap();
+    window
+        .add_event_listener_with_callback(embusen::web::PANIC_EVENT, listener.as_ref().unchecked_ref())
+        .unwrap();
+    embusen::web::report_panic("panicked at here: on purpose");
+    window
+        .remove_event_listener_with_callback(embusen::web::PANIC_EVENT, listener.as_ref().unchecked_ref())
+        .unwrap();
+    assert_eq!(got.borrow().as_deref(), Some("panicked at here: on purpose"));
+}
+
+#[wasm_bindgen_test]
+fn without_a_recording_results_are_errors() {
+    let player = Player::new(canvas(32, 32), canvas(32, 32)).unwrap();
+    assert_eq!(player.frame_count(), 0);
+    assert!(player.info().is_err());
+    assert!(player.export_recording().is_err());
+    assert!(player.settings().is_err());
 }

@@ -1,30 +1,67 @@
+// @ts-check
 // embusen's JavaScript shell. It only wires the page: it builds the player's
 // elements, reads files and URLs into bytes, forwards pointer and keyboard
 // input, and runs the animation loop. Parsing, kinematics, the translation
-// method, plot layout and all drawing happen in Rust (./pkg/embusen.js).
+// method, plot layout, all drawing, and every choice and default the controls
+// offer come from Rust (./pkg/embusen.js; its types in ./pkg/embusen.d.ts,
+// which this file is checked against).
 //
 //   import { mount } from "./embusen.js";
-//   const player = await mount(document.querySelector("#here"), { src: "walk.bvh", autoplay: true });
+//   const handle = await mount(document.querySelector("#here"), { src: "walk.bvh", autoplay: true });
+//   handle.destroy(); // stops it and gives back everything it holds
 
-import init, { Player } from "./pkg/embusen.js";
+import init, { Player, options as playerOptions } from "./pkg/embusen.js";
 
+/** @typedef {import("./pkg/embusen.js").Settings} Settings */
+/** @typedef {import("./pkg/embusen.js").Options} Options */
+/** @typedef {import("./pkg/embusen.js").Export} Export */
+
+/**
+ * @typedef {object} MountOptions
+ * @property {string} [src] the recording's URL; without it the built-in demo plays
+ * @property {string} [accel] its accelerometer CSV's URL
+ * @property {boolean} [autoplay]
+ * @property {"full" | "minimal"} [chrome] "full": file picker, settings, export, info; "minimal": for embeds
+ * @property {"document"} [keyboard] "document": keys page-wide; else when the player has focus
+ */
+
+/**
+ * @typedef {object} Handle
+ * @property {Player} player the wasm player
+ * @property {HTMLElement} element
+ * @property {(files: FileList | File[]) => Promise<void>} open opens a BVH (+ its accelerometer CSV) or a table
+ * @property {(src: string, accel?: string) => Promise<void>} openUrl
+ * @property {Promise<void>} ready resolves when the first recording is open
+ * @property {() => void} destroy stops the player and releases its loop, observer, listeners and wasm memory
+ */
+
+/** The event the wasm module sends the window when it panics (src/web/panic.rs). */
+const PANIC_EVENT = "embusen-panic";
+
+/** The mounted players' ways to show a panic: after one the module is unusable. */
+const panicked = new Set(/** @type {Array<(message: string) => void>} */ ([]));
+window.addEventListener(PANIC_EVENT, (event) => {
+  const message = String(/** @type {CustomEvent} */ (event).detail);
+  for (const show of panicked) show(message);
+});
+
+/** @type {Promise<Options> | null} */
 let wasmReady = null;
 /** Loads the wasm module once per page, however many players there are. */
 function loadWasm() {
-  wasmReady ??= init({ module_or_path: new URL("./pkg/embusen_bg.wasm", import.meta.url) });
+  wasmReady ??= init({ module_or_path: new URL("./pkg/embusen_bg.wasm", import.meta.url) }).then(() => playerOptions());
   return wasmReady;
 }
 
 const FULL_CONTROLS = `
   <label class="file">Open… <input type="file" multiple accept=".bvh,.csv,.txt"></label>
   <span class="sep"></span>
-  <label>method <select data-setting="method"><option value="contact">contact</option><option value="paper">paper (Hachaj &amp; Ogiela)</option></select></label>
-  <label class="paper-only">smoothing <select data-setting="smoothing"><option value="faithful">faithful (R)</option><option value="clean">clean</option></select></label>
-  <label class="paper-only">window <input data-setting="window" type="number" min="0.05" max="10" step="0.05" value="1"> s</label>
-  <label class="paper-only">dyEps <input data-setting="dyeps" type="number" min="0" max="100" step="0.5" value="5"> cm</label>
-  <label class="contact-only" title="how far the sole lies below the foot's lowest joint when the foot stands flat">sole <select data-setting="sole">
-    <option value="auto">auto</option><option>0</option><option>1</option><option>2</option><option>3</option>
-    <option>4</option><option>5</option><option>6</option></select> cm below the joints</label>
+  <label>method <select data-setting="method"></select></label>
+  <label class="paper-only">smoothing <select data-setting="smoothing"></select></label>
+  <label class="paper-only">window <input data-setting="window" type="number"> s</label>
+  <label class="paper-only">dyEps <input data-setting="dyeps" type="number"> cm</label>
+  <label class="contact-only" title="how far the sole lies below the foot's lowest joint when the foot stands flat">sole
+    <select data-setting="sole"></select> cm below the joints</label>
   <label>left foot <select data-setting="left"></select></label>
   <label>right foot <select data-setting="right"></select></label>
   <span class="sep"></span>
@@ -35,29 +72,46 @@ const PLAYBACK_CONTROLS = `
   <button data-action="play" title="play/pause (space)">▶</button>
   <input class="slider" type="range" min="0" max="0" value="0" aria-label="frame">
   <span class="readout">0.00 s · frame 0 / 0</span>
-  <label>speed <select data-action="speed">
-    <option value="0.25">0.25×</option><option value="0.5">0.5×</option><option value="1" selected>1×</option>
-    <option value="2">2×</option><option value="4">4×</option></select></label>
-  <label><input type="checkbox" data-action="loop" checked> loop</label>
+  <label>speed <select data-action="speed"></select></label>
+  <label><input type="checkbox" data-action="loop"> loop</label>
   <label><input type="checkbox" data-action="follow"> follow</label>
-  <label>original <select data-action="ghost"><option value="overlay">overlay</option>
-    <option value="side">side by side</option><option value="hidden">hidden</option></select></label>`;
+  <label>original <select data-action="ghost"></select></label>`;
 
-/** The info panel's row for the contact method's sole depth, `[depth, estimated]`. */
-function soleRow([depth, estimated]) {
-  if (depth === undefined) return [];
-  return [["sole", `${depth} cm below the lowest foot joint${estimated ? " (estimated)" : ""}`]];
+/**
+ * Each setting's control: its `data-setting`, the field of `Settings` it
+ * sets, how it shows the field's value, and how it reads it back.
+ * @type {Array<{ control: string, field: keyof Settings, show: (value: any) => string, read: (text: string) => any }>}
+ */
+const SETTING_CONTROLS = [
+  { control: "method", field: "method", show: String, read: String },
+  { control: "smoothing", field: "smoothing", show: String, read: String },
+  { control: "window", field: "window_s", show: String, read: Number },
+  { control: "dyeps", field: "dy_eps_cm", show: String, read: Number },
+  { control: "sole", field: "sole_depth_cm", show: (v) => (v === null ? "auto" : String(v)), read: (t) => (t === "auto" ? null : Number(t)) },
+  { control: "left", field: "left_foot", show: String, read: String },
+  { control: "right", field: "right_foot", show: String, read: String },
+];
+
+/**
+ * Fills a `<select>` with `[value, label]` entries and selects `selected`.
+ * @param {HTMLSelectElement} select
+ * @param {Array<[string, string]>} entries
+ * @param {string} selected
+ */
+function fillSelect(select, entries, selected) {
+  select.replaceChildren(...entries.map(([value, label]) => new Option(label, value, false, value === selected)));
 }
 
 /**
- * Mounts a player into `element`. Options: `src`, `accel` (URLs), `autoplay`,
- * `chrome`: "full" (file picker, settings, export, info) or "minimal" (for
- * iframes and embeds), `keyboard`: "document" to take keys page-wide (else the
- * player takes them when focused). Without `src` it opens the built-in demo.
- * Resolves to an object with the Rust `player` and `open(files)`.
+ * Mounts a player into `element`. Without `src` it opens the built-in demo.
+ * Resolves to a handle with the Rust `player`, `open(files)` and `destroy()`.
+ * @param {HTMLElement} element
+ * @param {MountOptions} [options]
+ * @returns {Promise<Handle>}
  */
 export async function mount(element, options = {}) {
   const chrome = options.chrome ?? "minimal";
+  const hadTabIndex = element.hasAttribute("tabindex");
   element.classList.add("embusen", `embusen-${chrome}`);
   element.tabIndex = 0;
   element.innerHTML = `
@@ -67,86 +121,128 @@ export async function mount(element, options = {}) {
     <div class="error" role="alert" hidden></div>
     <div class="controls">${PLAYBACK_CONTROLS}${chrome === "full" ? FULL_CONTROLS : ""}</div>
     ${chrome === "full" ? '<div class="info"></div>' : ""}`;
-  const $ = (selector) => element.querySelector(selector);
-  const view = $("canvas.view");
-  const plots = $("canvas.plots");
+  /**
+   * The element under the player matching `selector`, which must be a `type`.
+   * @template {Element} T
+   * @param {string} selector
+   * @param {new (...args: any[]) => T} type
+   * @returns {T}
+   */
+  const get = (selector, type) => {
+    const found = element.querySelector(selector);
+    if (!(found instanceof type)) throw new Error(`embusen: no ${type.name} at ${selector}`);
+    return found;
+  };
+  const view = get("canvas.view", HTMLCanvasElement);
+  const plots = get("canvas.plots", HTMLCanvasElement);
+  const errorBox = get(".error", HTMLElement);
+  const loadingBox = get(".loading", HTMLElement);
+  const slider = get(".slider", HTMLInputElement);
+  const readout = get(".readout", HTMLElement);
+  const playButton = get("[data-action=play]", HTMLButtonElement);
+  const info = element.querySelector(".info");
+  /** @param {string} control */
+  const settingControl = (control) => {
+    const found = element.querySelector(`[data-setting=${control}]`);
+    if (found instanceof HTMLInputElement || found instanceof HTMLSelectElement) return found;
+    throw new Error(`embusen: no setting control ${control}`);
+  };
 
-  await loadWasm();
+  const choices = await loadWasm();
   const player = new Player(view, plots);
-  const handle = { player, element, open: null, ready: null };
-  element.embusen = handle;
+  // Every listener goes with this signal, so destroy() removes them all at once.
+  const listeners = new AbortController();
+  const { signal } = listeners;
+  let destroyed = false;
+  /** The animation frame requested and not yet run, 0 for none. */
+  let frameRequest = 0;
 
   // --- errors, loading, info ------------------------------------------------
+  /** @param {string} message */
   const showError = (message) => {
-    const box = $(".error");
-    box.textContent = message;
-    box.hidden = !message;
+    errorBox.textContent = message;
+    errorBox.hidden = !message;
   };
+  /** @param {unknown} e */
+  const messageOf = (e) => String(e instanceof Error ? e.message : e);
+  /** @param {boolean} on */
   const setLoading = (on) => {
-    $(".loading").hidden = !on;
+    loadingBox.hidden = !on;
     element.dataset.state = on ? "loading" : "ready";
   };
+  /** @returns {Promise<void>} */
   const nextPaint = () => new Promise((resolve) => requestAnimationFrame(() => setTimeout(resolve, 0)));
 
-  const refreshInfo = () => {
-    $(".slider").max = String(Math.max(0, player.frame_count() - 1));
-    const info = $(".info");
-    if (info) {
-      const frames = player.frame_count();
-      const fps = player.fps();
-      const rows = [
-        ["file", player.name()],
-        ["joints", String(player.joint_names().length)],
-        ["frames", String(frames)],
-        ["rate", `${+fps.toFixed(2)} Hz`],
-        ["duration", `${(frames / fps).toFixed(2)} s`],
-        ["feet", player.feet().join(" / ")],
-        ["method", player.method()],
-        ...soleRow(player.sole_depth()),
-        ["accelerations", player.accel_source()],
-      ];
-      info.replaceChildren(
-        ...rows.map(([k, v]) => {
-          const row = document.createElement("div");
-          row.innerHTML = "<b></b> <span></span>";
-          row.firstChild.textContent = k;
-          row.lastChild.textContent = v;
-          return row;
-        }),
-        ...player.warnings().map((w) => {
-          const row = document.createElement("div");
-          row.className = "warning";
-          row.textContent = `⚠ ${w}`;
-          return row;
-        }),
-      );
-      for (const [side, index] of [["left", 0], ["right", 1]]) {
-        const select = $(`[data-setting=${side}]`);
-        select.replaceChildren(
-          ...player.joint_names().map((name) => new Option(name, name, false, name === player.feet()[index])),
-        );
-      }
+  /** Shows the open recording's facts and the settings in use. */
+  const refresh = () => {
+    slider.max = String(Math.max(0, player.frame_count() - 1));
+    if (!info) return;
+    const about = player.info();
+    const rows = [
+      ["file", about.name],
+      ["joints", String(about.joint_names.length)],
+      ["frames", String(about.frame_count)],
+      ["rate", `${+about.fps.toFixed(2)} Hz`],
+      ["duration", `${about.duration_s.toFixed(2)} s`],
+      ["feet", `${about.feet.left} / ${about.feet.right}`],
+      ["method", about.method],
+      ...(about.sole_depth
+        ? [["sole", `${about.sole_depth.depth_cm} cm below the lowest foot joint${about.sole_depth.estimated ? " (estimated)" : ""}`]]
+        : []),
+      ["accelerations", about.accel_source],
+    ];
+    info.replaceChildren(
+      ...rows.map(([k, v]) => {
+        const row = document.createElement("div");
+        const key = document.createElement("b");
+        const value = document.createElement("span");
+        key.textContent = k;
+        value.textContent = v;
+        row.append(key, " ", value);
+        return row;
+      }),
+      ...about.warnings.map((w) => {
+        const row = document.createElement("div");
+        row.className = "warning";
+        row.textContent = `⚠ ${w}`;
+        return row;
+      }),
+    );
+    const joints = about.joint_names.map((name) => /** @type {[string, string]} */ ([name, name]));
+    fillSelect(get("[data-setting=left]", HTMLSelectElement), joints, about.feet.left);
+    fillSelect(get("[data-setting=right]", HTMLSelectElement), joints, about.feet.right);
+    const settings = player.settings();
+    for (const { control, field, show } of SETTING_CONTROLS) {
+      if (field === "left_foot" || field === "right_foot") continue; // null: detected, shown above
+      settingControl(control).value = show(settings[field]);
     }
+    // The paper method's own settings only show when it is chosen.
+    element.dataset.method = settings.method;
   };
 
-  /** Runs a load; on failure shows the error and keeps what was open. */
+  /**
+   * Runs a load; on failure shows the error and keeps what was open.
+   * @param {() => void} work
+   */
   const guarded = async (work) => {
     setLoading(true);
     await nextPaint();
+    if (destroyed) return;
     try {
       work();
       showError("");
-      refreshInfo();
+      refresh();
     } catch (e) {
-      showError(String(e.message ?? e));
+      showError(messageOf(e));
     } finally {
       setLoading(false);
     }
   };
 
+  /** @param {Blob} file */
   const bytesOf = async (file) => new Uint8Array(await file.arrayBuffer());
-  /** Opens files: a BVH (+ its accelerometer CSV) or a table. */
-  handle.open = async (fileList) => {
+  /** @param {FileList | File[]} fileList */
+  const open = async (fileList) => {
     const files = [...fileList];
     const bvh = files.find((f) => /\.bvh$/i.test(f.name));
     const csv = files.find((f) => /\.(csv|txt)$/i.test(f.name));
@@ -156,19 +252,24 @@ export async function mount(element, options = {}) {
     const [bytes, accelBytes] = await Promise.all([bytesOf(main), accel ? bytesOf(accel) : undefined]);
     await guarded(() => player.load(main.name, bytes, accel?.name, accelBytes));
   };
+  /** @param {string} url */
   const fetchBytes = async (url) => {
     const response = await fetch(url);
     if (!response.ok) throw new Error(`${url}: HTTP ${response.status}`);
     return new Uint8Array(await response.arrayBuffer());
   };
-  handle.openUrl = async (src, accel) => {
+  /** @param {string} url */
+  const fileName = (url) => decodeURIComponent(new URL(url, location.href).pathname.split("/").pop() || url);
+  /**
+   * @param {string} src
+   * @param {string} [accel]
+   */
+  const openUrl = async (src, accel) => {
     try {
       const [bytes, accelBytes] = await Promise.all([fetchBytes(src), accel ? fetchBytes(accel) : undefined]);
-      const name = decodeURIComponent(new URL(src, location.href).pathname.split("/").pop() || src);
-      const accelName = accel ? decodeURIComponent(new URL(accel, location.href).pathname.split("/").pop()) : undefined;
-      await guarded(() => player.load(name, bytes, accelName, accelBytes));
+      await guarded(() => player.load(fileName(src), bytes, accel && fileName(accel), accelBytes));
     } catch (e) {
-      showError(String(e.message ?? e));
+      showError(messageOf(e));
     }
   };
 
@@ -180,67 +281,101 @@ export async function mount(element, options = {}) {
     player.resize(Math.round(v.width * dpr), Math.round(v.height * dpr), Math.round(p.width * dpr), Math.round(p.height * dpr));
     player.draw();
   };
-  new ResizeObserver(resize).observe(element);
+  const resizeObserver = new ResizeObserver(() => destroyed || resize());
+  resizeObserver.observe(element);
 
   // --- controls -----------------------------------------------------------------
-  const playButton = $("[data-action=play]");
+  /** @param {boolean} on */
   const setPlaying = (on) => {
     player.set_playing(on);
     playButton.textContent = on ? "❚❚" : "▶";
   };
-  playButton.addEventListener("click", () => setPlaying(!player.playing()));
-  $(".slider").addEventListener("input", (e) => player.set_frame(+e.target.value));
-  $("[data-action=speed]").addEventListener("change", (e) => player.set_speed(+e.target.value));
-  $("[data-action=loop]").addEventListener("change", (e) => player.set_looping(e.target.checked));
-  $("[data-action=follow]").addEventListener("change", (e) => player.set_follow(e.target.checked));
-  $("[data-action=ghost]").addEventListener("change", (e) => player.set_ghost(e.target.value));
+  const { defaults } = choices;
+  const speed = get("[data-action=speed]", HTMLSelectElement);
+  fillSelect(speed, choices.speeds.map((s) => [String(s), `${s}×`]), String(defaults.speed));
+  const ghost = get("[data-action=ghost]", HTMLSelectElement);
+  fillSelect(ghost, choices.ghosts.map((g) => [g.value, g.label]), defaults.ghost);
+  const looping = get("[data-action=loop]", HTMLInputElement);
+  looping.checked = defaults.looping;
+  const follow = get("[data-action=follow]", HTMLInputElement);
+  follow.checked = defaults.follow;
+
+  playButton.addEventListener("click", () => setPlaying(!player.playing()), { signal });
+  slider.addEventListener("input", () => player.set_frame(+slider.value), { signal });
+  speed.addEventListener("change", () => player.set_speed(+speed.value), { signal });
+  looping.addEventListener("change", () => player.set_looping(looping.checked), { signal });
+  follow.addEventListener("change", () => player.set_follow(follow.checked), { signal });
+  ghost.addEventListener("change", () => {
+    try {
+      player.set_ghost(/** @type {import("./pkg/embusen.js").Ghost} */ (ghost.value));
+      showError("");
+    } catch (e) {
+      showError(messageOf(e));
+    }
+  }, { signal });
 
   if (chrome === "full") {
-    $("input[type=file]").addEventListener("change", (e) => handle.open(e.target.files));
-    const applySettings = () => {
+    const file = get("input[type=file]", HTMLInputElement);
+    file.addEventListener("change", () => file.files && open(file.files), { signal });
+    fillSelect(get("[data-setting=method]", HTMLSelectElement), choices.methods.map((m) => [m.value, m.label]), defaults.settings.method);
+    fillSelect(get("[data-setting=smoothing]", HTMLSelectElement), choices.smoothings.map((m) => [m.value, m.label]), defaults.settings.smoothing);
+    fillSelect(
+      get("[data-setting=sole]", HTMLSelectElement),
+      [["auto", "auto"], ...choices.sole_depths_cm.map((d) => /** @type {[string, string]} */ ([String(d), String(d)]))],
+      "auto",
+    );
+    for (const [control, range] of /** @type {const} */ ([["window", choices.window_s], ["dyeps", choices.dy_eps_cm]])) {
+      const input = get(`[data-setting=${control}]`, HTMLInputElement);
+      input.min = String(range.min);
+      input.max = String(range.max);
+      input.step = String(range.step);
+    }
+    element.dataset.method = defaults.settings.method;
+    for (const { control, field, read } of SETTING_CONTROLS) {
+      const input = settingControl(control);
+      input.addEventListener("change", () => {
+        try {
+          player.set_settings({ ...player.settings(), [field]: read(input.value) });
+          showError("");
+        } catch (e) {
+          showError(messageOf(e));
+        }
+        refresh(); // on error too: the controls show the settings in use
+      }, { signal });
+    }
+    /** @param {() => Export} make */
+    const download = (make) => {
       try {
-        player.set_settings(
-          $("[data-setting=method]").value,
-          $("[data-setting=smoothing]").value,
-          +$("[data-setting=window]").value,
-          +$("[data-setting=dyeps]").value,
-          $("[data-setting=left]").value,
-          $("[data-setting=right]").value,
-          $("[data-setting=sole]").value === "auto" ? undefined : +$("[data-setting=sole]").value,
-        );
-        showError("");
-        refreshInfo();
+        const { name, text } = make();
+        const a = document.createElement("a");
+        a.href = URL.createObjectURL(new Blob([text], { type: "text/plain" }));
+        a.download = name;
+        a.click();
+        setTimeout(() => URL.revokeObjectURL(a.href), 1000);
       } catch (e) {
-        showError(String(e.message ?? e));
+        showError(messageOf(e));
       }
-      // The paper method's own settings only show when it is chosen.
-      element.dataset.method = $("[data-setting=method]").value;
     };
-    element.dataset.method = "contact";
-    element.querySelectorAll("[data-setting]").forEach((input) => input.addEventListener("change", applySettings));
-    const download = ([name, text]) => {
-      const a = document.createElement("a");
-      a.href = URL.createObjectURL(new Blob([text], { type: "text/plain" }));
-      a.download = name;
-      a.click();
-      setTimeout(() => URL.revokeObjectURL(a.href), 1000);
-    };
-    $("[data-action=export-recording]").addEventListener("click", () => download(player.export_recording()));
-    $("[data-action=export-hips]").addEventListener("click", () => download(player.export_hips_csv()));
-    element.addEventListener("dragover", (e) => e.preventDefault());
+    get("[data-action=export-recording]", HTMLButtonElement)
+      .addEventListener("click", () => download(() => player.export_recording()), { signal });
+    get("[data-action=export-hips]", HTMLButtonElement)
+      .addEventListener("click", () => download(() => player.export_hips_csv()), { signal });
+    // A drop here is this player's: preventDefault tells the page's own drop handler so.
+    element.addEventListener("dragover", (e) => e.preventDefault(), { signal });
     element.addEventListener("drop", (e) => {
       e.preventDefault();
-      handle.open(e.dataTransfer.files);
-    });
+      if (e.dataTransfer) open(e.dataTransfer.files);
+    }, { signal });
   }
 
   // --- pointer: orbit (drag), pan (right/shift drag, two fingers), zoom (wheel, pinch)
+  /** @type {Map<number, { x: number, y: number, pan: boolean }>} */
   const pointers = new Map();
-  view.addEventListener("contextmenu", (e) => e.preventDefault());
+  view.addEventListener("contextmenu", (e) => e.preventDefault(), { signal });
   view.addEventListener("pointerdown", (e) => {
     view.setPointerCapture(e.pointerId);
     pointers.set(e.pointerId, { x: e.clientX, y: e.clientY, pan: e.button === 2 || e.shiftKey });
-  });
+  }, { signal });
   view.addEventListener("pointermove", (e) => {
     const last = pointers.get(e.pointerId);
     if (!last) return;
@@ -259,16 +394,18 @@ export async function mount(element, options = {}) {
       last.x = e.clientX;
       last.y = e.clientY;
     }
-  });
+  }, { signal });
+  /** @param {PointerEvent} e */
   const release = (e) => pointers.delete(e.pointerId);
-  view.addEventListener("pointerup", release);
-  view.addEventListener("pointercancel", release);
+  view.addEventListener("pointerup", release, { signal });
+  view.addEventListener("pointercancel", release, { signal });
   view.addEventListener("wheel", (e) => {
     e.preventDefault();
     player.zoom(Math.exp(e.deltaY * 0.001));
-  }, { passive: false });
+  }, { passive: false, signal });
 
   // Click or drag on a plot: seek.
+  /** @param {PointerEvent} e */
   const seek = (e) => {
     const r = plots.getBoundingClientRect();
     const dpr = window.devicePixelRatio || 1;
@@ -277,15 +414,19 @@ export async function mount(element, options = {}) {
   plots.addEventListener("pointerdown", (e) => {
     plots.setPointerCapture(e.pointerId);
     seek(e);
-  });
+  }, { signal });
   plots.addEventListener("pointermove", (e) => {
     if (plots.hasPointerCapture(e.pointerId)) seek(e);
-  });
+  }, { signal });
 
   // --- keyboard -----------------------------------------------------------------
   const keyTarget = options.keyboard === "document" ? document : element;
   keyTarget.addEventListener("keydown", (e) => {
-    if (e.target.closest?.("input, select, textarea") && e.target.type !== "range") return;
+    if (!(e instanceof KeyboardEvent)) return;
+    const target = e.target;
+    const typing = target instanceof Element && target.closest("input, select, textarea");
+    if (typing && !(target instanceof HTMLInputElement && target.type === "range")) return;
+    /** @type {Record<string, () => void>} */
     const actions = {
       " ": () => setPlaying(!player.playing()),
       ArrowLeft: () => player.step(-1),
@@ -298,13 +439,13 @@ export async function mount(element, options = {}) {
       e.preventDefault();
       action();
     }
-  });
+  }, { signal });
 
   // --- the animation loop ---------------------------------------------------------
   let last = performance.now();
-  const readout = $(".readout");
-  const slider = $(".slider");
+  /** @param {number} now */
   const loop = (now) => {
+    frameRequest = 0;
     player.tick((now - last) / 1000);
     last = now;
     const frame = player.frame();
@@ -312,18 +453,56 @@ export async function mount(element, options = {}) {
     element.dataset.frame = String(frame);
     readout.textContent = `${player.time_s().toFixed(2)} s · frame ${frame} / ${Math.max(0, player.frame_count() - 1)}`;
     if (!player.playing() && playButton.textContent !== "▶") playButton.textContent = "▶";
-    requestAnimationFrame(loop);
+    frameRequest = requestAnimationFrame(loop);
+  };
+  const stopLoop = () => {
+    if (frameRequest) cancelAnimationFrame(frameRequest);
+    frameRequest = 0;
+  };
+
+  /** @param {string} message */
+  const showPanic = (message) => {
+    stopLoop();
+    playButton.textContent = "▶";
+    playButton.disabled = true;
+    showError(`embusen stopped on an internal error; reload the page. ${message}`);
+  };
+  panicked.add(showPanic);
+
+  const destroy = () => {
+    if (destroyed) return;
+    destroyed = true;
+    stopLoop();
+    resizeObserver.disconnect();
+    listeners.abort();
+    panicked.delete(showPanic);
+    try {
+      player.free();
+    } catch {
+      // After a panic the module cannot free; the page is going away anyway.
+    }
+    // Give the GPU context back now rather than at garbage collection: a page has only a few.
+    view.getContext("webgl2")?.getExtension("WEBGL_lose_context")?.loseContext();
+    element.replaceChildren();
+    element.classList.remove("embusen", `embusen-${chrome}`);
+    if (!hadTabIndex) element.removeAttribute("tabindex");
+    for (const key of ["state", "frame", "method"]) delete element.dataset[key];
+    delete /** @type {any} */ (element).embusen;
   };
 
   // --- first recording ----------------------------------------------------------------
-  handle.ready = (async () => {
-    if (options.src) await handle.openUrl(options.src, options.accel);
+  const ready = (async () => {
+    if (options.src) await openUrl(options.src, options.accel);
     else await guarded(() => player.load_demo());
+    if (destroyed) return;
     resize();
     setPlaying(Boolean(options.autoplay));
     last = performance.now(); // playback starts now, not when loading began
-    requestAnimationFrame(loop);
+    frameRequest = requestAnimationFrame(loop);
   })();
-  await handle.ready;
+  /** @type {Handle} */
+  const handle = { player, element, open, openUrl, ready, destroy };
+  /** @type {any} */ (element).embusen = handle;
+  await ready;
   return handle;
 }

@@ -4,6 +4,7 @@
 //! import everything below it (`translate`, `io`, `body`, `synth`, `signal`);
 //! only `web` and the CLI import it.
 
+pub mod clock;
 pub mod plot;
 pub mod session;
 pub mod theme;

@@ -1,24 +1,43 @@
 //! The browser side: a `Player` that JavaScript creates over two canvases (the
 //! 3D view and the plots) and drives from its animation loop. It holds a
-//! [`Session`] and only translates between the page and the core: parsing,
-//! kinematics, the method, plot layout and rendering all happen in Rust.
-//! Built only for wasm32; may import everything below it, and nothing of the
-//! core imports it.
+//! [`Session`] and a playback [`Clock`] and only translates between the page
+//! and the core: parsing, kinematics, the method, plot layout and rendering
+//! all happen in Rust. What crosses to the page is typed ([`api`]). Built
+//! only for wasm32; may import everything below it, and nothing of the core
+//! imports it.
 
+pub mod api;
 mod canvas2d;
+mod panic;
 mod scene;
 
 use std::sync::Arc;
 
+use tsify::{Ts, Tsify};
 use wasm_bindgen::prelude::*;
 use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement, WebGl2RenderingContext};
 
+use crate::app::clock::Clock;
 use crate::app::plot::{self, Layout, Stance, TextMeasure};
 use crate::app::session::{Session, Settings};
 use crate::io::recording::{FeetChoice, Recording};
 use crate::io::table::Accelerations;
-use crate::translate::paper::Smoothing;
+use api::{Export, FootNames, Ghost, Info, Options, PlotPanel, SoleDepth};
 use scene::{GhostMode, Scene};
+
+pub use panic::{PANIC_EVENT, report_panic};
+
+/// Runs once when the module is instantiated.
+#[wasm_bindgen(start)]
+fn start() {
+    panic::install();
+}
+
+/// Every choice the page offers, and the defaults.
+#[wasm_bindgen]
+pub fn options() -> Result<Ts<Options>, JsError> {
+    Ok(Options::new().into_ts()?)
+}
 
 fn js_error(e: impl std::fmt::Display) -> JsError {
     JsError::new(&e.to_string())
@@ -36,10 +55,7 @@ pub struct Player {
     layout: Layout,
     scene: Scene,
     session: Option<Session>,
-    time_s: f64,
-    playing: bool,
-    speed: f64,
-    looping: bool,
+    clock: Clock,
     drawn_frame: Option<usize>,
     /// The scene or plots must be rebuilt for the current frame.
     scene_dirty: bool,
@@ -84,18 +100,18 @@ impl Player {
             .map_err(|_| js_error("cannot create a canvas"))?
             .dyn_into::<HtmlCanvasElement>()
             .map_err(|_| js_error("cannot create a canvas"))?;
+        let mut scene = Scene::new(context);
+        scene.follow = api::FOLLOW_DEFAULT;
+        scene.ghost_mode = ghost_mode(Ghost::default());
         Ok(Player {
             plots_2d: context_2d(&plots)?,
             view,
             plots,
             plots_static,
             layout: plot::layout(1.0, 1.0, TextMeasure::Estimate),
-            scene: Scene::new(context),
+            scene,
             session: None,
-            time_s: 0.0,
-            playing: false,
-            speed: 1.0,
-            looping: true,
+            clock: Clock::default(),
             drawn_frame: None,
             scene_dirty: true,
             camera_moved: false,
@@ -133,8 +149,8 @@ impl Player {
             None => Settings::default(),
         };
         let session = Session::open(recording, settings).map_err(js_error)?;
+        self.clock.set_recording(session.recording.frame_count(), session.recording.fps);
         self.session = Some(session);
-        self.time_s = 0.0;
         self.after_change();
         Ok(())
     }
@@ -156,43 +172,26 @@ impl Player {
         self.repaint_static_plots();
     }
 
-    /// Changes the method settings and recomputes; on error nothing changes.
-    /// `method` is "contact" or "paper"; `smoothing` ("faithful" or "clean"),
-    /// `window_s` and `dy_eps_cm` are the paper method's; empty foot names
-    /// mean "detect"; `sole_depth_cm` is the contact method's, `undefined`
-    /// to estimate it.
-    #[allow(clippy::too_many_arguments)]
-    pub fn set_settings(
-        &mut self,
-        method: &str,
-        smoothing: &str,
-        window_s: f64,
-        dy_eps_cm: f64,
-        left_foot: &str,
-        right_foot: &str,
-        sole_depth_cm: Option<f64>,
-    ) -> Result<(), JsError> {
+    /// The method settings in use.
+    pub fn settings(&self) -> Result<Ts<api::Settings>, JsError> {
+        let session = self.open_session()?;
+        Ok(api::Settings::from_session(&session.settings).into_ts()?)
+    }
+
+    /// Changes the method settings and recomputes; on error (an unknown
+    /// value or field, a value out of range, a foot that is no joint)
+    /// nothing changes.
+    pub fn set_settings(&mut self, settings: Ts<api::Settings>) -> Result<(), JsError> {
+        let settings = api::Settings::from_js(settings).map_err(js_error)?;
         let Some(session) = &mut self.session else { return Err(js_error("no recording is open")) };
-        let mut settings = session.settings.clone();
-        settings.use_paper = match method {
-            "contact" => false,
-            "paper" => true,
-            other => return Err(js_error(format!("unknown method `{other}`"))),
-        };
-        settings.paper.smoothing = match smoothing {
-            "faithful" => Smoothing::Faithful,
-            "clean" => Smoothing::Clean,
-            other => return Err(js_error(format!("unknown smoothing `{other}`"))),
-        };
-        settings.paper.window_s = window_s;
-        settings.paper.dy_eps_cm = dy_eps_cm;
-        settings.contact.sole_depth_cm = sole_depth_cm;
-        settings.contact.check().map_err(js_error)?;
-        let name = |s: &str| (!s.is_empty()).then(|| s.to_string());
-        settings.feet = FeetChoice { left: name(left_foot), right: name(right_foot) };
+        let settings = settings.apply_to(&session.settings).map_err(js_error)?;
         session.set_settings(settings).map_err(js_error)?;
         self.after_change();
         Ok(())
+    }
+
+    fn open_session(&self) -> Result<&Session, JsError> {
+        self.session.as_ref().ok_or_else(|| js_error("no recording is open"))
     }
 
     /// Sets the canvas sizes in device pixels (call on resize).
@@ -219,21 +218,7 @@ impl Player {
     /// Advances playback by `dt_s` seconds of wall time (when playing) and
     /// draws whatever changed. Call once per animation frame.
     pub fn tick(&mut self, dt_s: f64) {
-        if let Some(session) = &self.session
-            && self.playing
-        {
-            let duration = session.recording.duration_s();
-            self.time_s += dt_s.clamp(0.0, 0.25) * self.speed;
-            let last = (session.recording.frame_count().saturating_sub(1)) as f64 / session.recording.fps;
-            if self.time_s > last {
-                if self.looping && duration > 0.0 {
-                    self.time_s = 0.0;
-                } else {
-                    self.time_s = last;
-                    self.playing = false;
-                }
-            }
-        }
+        self.clock.tick(dt_s);
         if self.scene_dirty || self.camera_moved || self.drawn_frame != Some(self.frame() as usize) {
             self.draw();
         }
@@ -274,49 +259,47 @@ impl Player {
 
     /// The current frame index.
     pub fn frame(&self) -> u32 {
-        let Some(session) = &self.session else { return 0 };
-        let last = session.recording.frame_count().saturating_sub(1);
-        ((self.time_s * session.recording.fps).round().max(0.0) as usize).min(last) as u32
+        self.clock.frame() as u32
     }
 
+    /// Jumps to `frame`, clamped to the recording.
     pub fn set_frame(&mut self, frame: u32) {
-        let Some(session) = &self.session else { return };
-        let last = session.recording.frame_count().saturating_sub(1);
-        self.time_s = (frame as usize).min(last) as f64 / session.recording.fps;
+        self.clock.set_frame(frame as usize);
     }
 
+    /// Moves by `frames` (negative: back), clamped to the recording.
     pub fn step(&mut self, frames: i32) {
-        let f = self.frame() as i64 + frames as i64;
-        self.set_frame(f.max(0) as u32);
+        self.clock.step(i64::from(frames));
     }
 
     pub fn frame_count(&self) -> u32 {
-        self.session.as_ref().map_or(0, |s| s.recording.frame_count() as u32)
+        self.clock.frame_count() as u32
     }
 
     pub fn fps(&self) -> f64 {
-        self.session.as_ref().map_or(0.0, |s| s.recording.fps)
+        self.clock.fps()
     }
 
+    /// The time of the current frame (s).
     pub fn time_s(&self) -> f64 {
-        self.frame() as f64 / self.fps().max(1e-9)
+        self.clock.frame_time_s()
     }
 
     pub fn playing(&self) -> bool {
-        self.playing
+        self.clock.playing()
     }
 
     pub fn set_playing(&mut self, playing: bool) {
-        self.playing = playing;
+        self.clock.set_playing(playing);
     }
 
     /// Playback speed, clamped to 0.25–4×.
     pub fn set_speed(&mut self, speed: f64) {
-        self.speed = speed.clamp(0.25, 4.0);
+        self.clock.set_speed(speed);
     }
 
     pub fn set_looping(&mut self, looping: bool) {
-        self.looping = looping;
+        self.clock.set_looping(looping);
     }
 
     // --- view -----------------------------------------------------------
@@ -342,14 +325,11 @@ impl Player {
         self.scene_dirty = true;
     }
 
-    /// "overlay", "side" or "hidden".
-    pub fn set_ghost(&mut self, mode: &str) {
-        self.scene.ghost_mode = match mode {
-            "side" => GhostMode::SideBySide,
-            "hidden" => GhostMode::Hidden,
-            _ => GhostMode::Overlay,
-        };
+    /// How the original skeleton is shown; an unknown mode is an error.
+    pub fn set_ghost(&mut self, mode: Ts<Ghost>) -> Result<(), JsError> {
+        self.scene.ghost_mode = ghost_mode(mode.to_rust()?);
         self.scene_dirty = true;
+        Ok(())
     }
 
     /// A click or drag on the plots at (x, y) canvas pixels: seeks to the
@@ -367,67 +347,59 @@ impl Player {
 
     // --- information and export -----------------------------------------
 
-    pub fn name(&self) -> String {
-        self.session.as_ref().map_or(String::new(), |s| s.recording.name.clone())
-    }
-
-    pub fn joint_names(&self) -> Vec<String> {
-        self.session.as_ref().map_or(Vec::new(), |s| s.recording.joint_names.clone())
-    }
-
-    /// `[left, right]` foot joint names in use.
-    pub fn feet(&self) -> Vec<String> {
-        let Some(s) = &self.session else { return Vec::new() };
+    /// What the info panel shows about the open recording and its result.
+    pub fn info(&self) -> Result<Ts<Info>, JsError> {
+        let s = self.open_session()?;
         let names = &s.recording.joint_names;
-        vec![names[s.translated.feet.left].clone(), names[s.translated.feet.right].clone()]
+        let sole_depth = s
+            .translated
+            .contact()
+            .and_then(|c| c.sole_depth_cm)
+            .map(|depth_cm| SoleDepth { depth_cm, estimated: s.settings.contact.sole_depth_cm.is_none() });
+        let info = Info {
+            name: s.recording.name.clone(),
+            joint_names: names.clone(),
+            frame_count: s.recording.frame_count(),
+            fps: s.recording.fps,
+            duration_s: s.recording.duration_s(),
+            feet: FootNames {
+                left: names[s.translated.feet.left].clone(),
+                right: names[s.translated.feet.right].clone(),
+            },
+            method: api::Settings::from_session(&s.settings).method,
+            sole_depth,
+            accel_source: s.translated.accel_source.to_string(),
+            warnings: s.recording.warnings.iter().chain(s.translated.decisions.warnings()).cloned().collect(),
+        };
+        Ok(info.into_ts()?)
     }
 
-    /// The method in use: "contact" or "paper".
-    pub fn method(&self) -> String {
-        self.session.as_ref().map_or(String::new(), |s| s.settings.method().name().to_string())
+    /// The plot panels in pixels of the plot canvas, in the order of
+    /// `plot::Panel`; tests click into them.
+    pub fn plot_panels(&self) -> Result<Vec<Ts<PlotPanel>>, JsError> {
+        let rects = self.layout.plot_rects_xywh();
+        let panels = rects.chunks_exact(4).map(|r| PlotPanel { x: r[0], y: r[1], width: r[2], height: r[3] });
+        Ok(panels.map(|p| p.into_ts()).collect::<Result<_, _>>()?)
     }
 
-    /// The contact method's sole depth (cm below the lowest foot joint) and
-    /// whether it was estimated: `[depth, 1]` estimated, `[depth, 0]` as set;
-    /// empty for the paper method and for feet without toes.
-    pub fn sole_depth(&self) -> Vec<f64> {
-        let Some(s) = &self.session else { return Vec::new() };
-        let estimated = s.settings.contact.sole_depth_cm.is_none();
-        let depth = s.translated.contact().and_then(|c| c.sole_depth_cm);
-        depth.map_or(Vec::new(), |d| vec![d, f64::from(u8::from(estimated))])
+    /// The corrected recording (BVH or table).
+    pub fn export_recording(&self) -> Result<Ts<Export>, JsError> {
+        let (name, text) = self.open_session()?.export_recording();
+        Ok(Export { name, text }.into_ts()?)
     }
 
-    /// Where the foot accelerations came from.
-    pub fn accel_source(&self) -> String {
-        self.session.as_ref().map_or(String::new(), |s| s.translated.accel_source.to_string())
+    /// The hips trajectory CSV.
+    pub fn export_hips_csv(&self) -> Result<Ts<Export>, JsError> {
+        let (name, text) = self.open_session()?.export_hips_csv();
+        Ok(Export { name, text }.into_ts()?)
     }
+}
 
-    /// The reader's and the method's warnings.
-    pub fn warnings(&self) -> Vec<String> {
-        let Some(s) = &self.session else { return Vec::new() };
-        s.recording.warnings.iter().chain(s.translated.decisions.warnings()).cloned().collect()
-    }
-
-    /// The plot panels in CSS pixels of the plot canvas, `[x, y, width,
-    /// height]` per panel, in the order of `plot::Panel`; tests click into them.
-    pub fn plot_panels(&self) -> Vec<f32> {
-        self.layout.plot_rects_xywh()
-    }
-
-    /// `[file name, text]` of the corrected recording (BVH or table).
-    pub fn export_recording(&self) -> Vec<String> {
-        self.session.as_ref().map_or(Vec::new(), |s| {
-            let (name, text) = s.export_recording();
-            vec![name, text]
-        })
-    }
-
-    /// `[file name, text]` of the hips trajectory CSV.
-    pub fn export_hips_csv(&self) -> Vec<String> {
-        self.session.as_ref().map_or(Vec::new(), |s| {
-            let (name, text) = s.export_hips_csv();
-            vec![name, text]
-        })
+fn ghost_mode(ghost: Ghost) -> GhostMode {
+    match ghost {
+        Ghost::Overlay => GhostMode::Overlay,
+        Ghost::Side => GhostMode::SideBySide,
+        Ghost::Hidden => GhostMode::Hidden,
     }
 }
 

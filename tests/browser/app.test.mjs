@@ -6,8 +6,9 @@ import { execFileSync } from "node:child_process";
 import { mkdirSync, readFileSync, writeFileSync, mkdtempSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
+import { gzipSync } from "node:zlib";
 import {
-  startServer, launchBrowser, openApp, waitReady, countDrawnPixels, DATA, HAVE_DATA, ROOT, SCREENSHOTS,
+  startServer, launchBrowser, openApp, waitReady, countDrawnPixels, DATA, DIST, HAVE_DATA, ROOT, SCREENSHOTS,
 } from "./harness.mjs";
 
 let server;
@@ -19,18 +20,27 @@ const TWO_PLAYERS = `<!doctype html><html><head><link rel="stylesheet" href="/st
     mount(document.querySelector("#a"), { autoplay: true });
     mount(document.querySelector("#b"), { src: "/data/karate/mae_geri_left.bvh", autoplay: true });
   </script></body></html>`;
+// A page that only loads the module, for mounting players from the test.
+const EMPTY = `<!doctype html><html><head><link rel="stylesheet" href="/style.css"></head><body>
+  <script type="module">
+    import { mount } from "/embusen.js";
+    window.mount = mount;
+  </script></body></html>`;
 const IFRAME = `<!doctype html><html><body>
   <iframe id="f" src="/embed.html" width="640" height="480" style="border:0"></iframe></body></html>`;
 
+// In CI the shared recordings must be there: a test that needs them fails
+// without them. Elsewhere it says plainly that it was skipped.
 const skipWithoutData = (t) => {
   if (HAVE_DATA) return false;
+  if (process.env.CI === "true") assert.fail(`${DATA} not found: CI must have the shared recordings`);
   t.skip(`SKIPPED: ${DATA} not found`);
   console.log(`SKIPPED: ${DATA} not found; tests on the real recordings did not run`);
   return true;
 };
 
 before(async () => {
-  server = await startServer({ "/test/two.html": TWO_PLAYERS, "/test/iframe.html": IFRAME });
+  server = await startServer({ "/test/two.html": TWO_PLAYERS, "/test/iframe.html": IFRAME, "/test/empty.html": EMPTY });
   browser = await launchBrowser();
   mkdirSync(SCREENSHOTS, { recursive: true });
 });
@@ -40,6 +50,10 @@ after(async () => {
 });
 
 const frameOf = (page, sel = "#app") => page.evaluate((s) => document.querySelector(s).embusen.player.frame(), sel);
+const nameOf = (page, sel = "#app") => page.evaluate((s) => document.querySelector(s).embusen.player.info().name, sel);
+/** The plot panels as [x, y, width, height] in canvas pixels. */
+const panelsOf = (page) => page.evaluate(() =>
+  document.querySelector("#app").embusen.player.plot_panels().map((p) => [p.x, p.y, p.width, p.height]));
 
 test("the demo opens, plays, and draws a skeleton and every plot", async () => {
   const requests = [];
@@ -55,10 +69,10 @@ test("the demo opens, plays, and draws a skeleton and every plot", async () => {
   assert.ok(later > first, `playing: frame ${first} → ${later}`);
   const skeleton = await countDrawnPixels(page, "#app canvas.view");
   assert.ok(skeleton > 500, `3D view draws (${skeleton} pixels off the background)`);
-  const panels = await page.evaluate(() => [...document.querySelector("#app").embusen.player.plot_panels()]);
-  assert.equal(panels.length, 20, "five plot panels");
+  const panels = await panelsOf(page);
+  assert.equal(panels.length, 5, "five plot panels");
   for (let i = 0; i < 5; i++) {
-    const rect = panels.slice(4 * i, 4 * i + 4);
+    const rect = panels[i];
     const drawn = await countDrawnPixels(page, "#app canvas.plots", rect);
     assert.ok(drawn > 200, `plot ${"abcde"[i]} is drawn (${drawn} pixels in ${rect.map(Math.round)})`);
   }
@@ -91,11 +105,11 @@ test("keyboard: space pauses, arrows step, Home/End jump", async () => {
 
 test("clicking a plot seeks", async () => {
   const { page } = await openApp(browser, server.url, "/?autoplay=0");
-  const panels = await page.evaluate(() => [...document.querySelector("#app").embusen.player.plot_panels()]);
+  const panels = await panelsOf(page);
   const box = await page.locator("#app canvas.plots").boundingBox();
   const dpr = await page.evaluate(() => window.devicePixelRatio);
   // The middle of panel (b), in CSS pixels.
-  const [x, y, w, h] = panels.slice(4, 8).map((v) => v / dpr);
+  const [x, y, w, h] = panels[1].map((v) => v / dpr);
   await page.mouse.click(box.x + x + w * 0.5, box.y + y + h * 0.5);
   const frame = await frameOf(page);
   const count = await page.evaluate(() => document.querySelector("#app").embusen.player.frame_count());
@@ -109,7 +123,7 @@ test("heian_nidan.bvh opens through the file input and exports what the CLI writ
   const file = join(DATA, "karate/heian_nidan.bvh");
   const started = Date.now();
   await page.setInputFiles("#app input[type=file]", file);
-  await page.waitForFunction(() => document.querySelector("#app").embusen.player.name() === "heian_nidan.bvh");
+  await page.waitForFunction(() => document.querySelector("#app").embusen.player.info().name === "heian_nidan.bvh");
   await waitReady(page);
   console.log(`heian_nidan.bvh: input → ready in ${Date.now() - started} ms (including the page's file read)`);
   assert.equal(await page.evaluate(() => document.querySelector("#app").embusen.player.frame_count()), 2689);
@@ -157,7 +171,7 @@ test("a corrupted file shows its error and the open recording stays", async () =
   await page.waitForSelector("#app .error:not([hidden])");
   const message = await page.textContent("#app .error");
   assert.match(message, /broken\.bvh:10:5: expected a number, found `x`/);
-  assert.equal(await page.evaluate(() => document.querySelector("#app").embusen.player.name()), "demo (synthetic kata)");
+  assert.equal(await nameOf(page), "demo (synthetic kata)");
   assert.equal(await frameOf(page), before);
   await page.screenshot({ path: join(SCREENSHOTS, "error.png") });
   await page.close();
@@ -170,7 +184,7 @@ test("?src loads by address, with an accelerometer file", async (t) => {
   page.on("request", (r) => requests.push(new URL(r.url()).pathname));
   await page.goto(server.url + "/?autoplay=0&src=/data/karate/heian_shodan.bvh&accel=/data/karate/heian_shodan.accel.csv");
   await waitReady(page);
-  await page.waitForFunction(() => document.querySelector("#app").embusen.player.name() === "heian_shodan.bvh");
+  await page.waitForFunction(() => document.querySelector("#app").embusen.player.info().name === "heian_shodan.bvh");
   assert.match(await page.textContent("#app .info"), /accelerometers LeftFoot\/RightFoot/);
   await page.evaluate(() => { const p = document.querySelector("#app").embusen.player; p.set_frame(1200); p.draw(); });
   await page.screenshot({ path: join(SCREENSHOTS, "heian_shodan.png") });
@@ -178,7 +192,7 @@ test("?src loads by address, with an accelerometer file", async (t) => {
   assert.deepEqual(ours.sort(), ["/data/karate/heian_shodan.accel.csv", "/data/karate/heian_shodan.bvh"]);
   await page.goto(server.url + "/?autoplay=0&src=/data/groundtruth/bandai1_walk_active_001.bvh");
   await waitReady(page);
-  await page.waitForFunction(() => document.querySelector("#app").embusen.player.name() === "bandai1_walk_active_001.bvh");
+  await page.waitForFunction(() => document.querySelector("#app").embusen.player.info().name === "bandai1_walk_active_001.bvh");
   await page.evaluate(() => { const p = document.querySelector("#app").embusen.player; p.set_frame(100); p.draw(); });
   await page.screenshot({ path: join(SCREENSHOTS, "bandai_walk.png") });
   await page.close();
@@ -197,7 +211,7 @@ test("embed.html works in an iframe and two players run on one page", async (t) 
     await page.goto(server.url + "/test/two.html");
     await waitReady(page, "#a");
     await waitReady(page, "#b");
-    const names = await page.evaluate(() => ["#a", "#b"].map((s) => document.querySelector(s).embusen.player.name()));
+    const names = await Promise.all(["#a", "#b"].map((s) => nameOf(page, s)));
     assert.deepEqual(names, ["demo (synthetic kata)", "mae_geri_left.bvh"]);
     for (const sel of ["#a", "#b"]) {
       assert.ok((await countDrawnPixels(page, `${sel} canvas.view`)) > 300, `${sel} draws`);
@@ -210,4 +224,169 @@ test("embed.html works in an iframe and two players run on one page", async (t) 
     skipWithoutData(t);
   }
   await page.close();
+});
+
+// Counts, from before the page's own scripts run, the animation frames
+// requested and not yet run or cancelled, the ResizeObservers observing, and
+// the event listeners added and not yet removed (by removeEventListener or
+// their AbortSignal), on every target.
+function instrument() {
+  const live = { frames: new Set(), observers: new Set(), listeners: [] };
+  window.__live = live;
+  const request = window.requestAnimationFrame.bind(window);
+  const cancel = window.cancelAnimationFrame.bind(window);
+  window.requestAnimationFrame = (callback) => {
+    const id = request((now) => {
+      live.frames.delete(id);
+      callback(now);
+    });
+    live.frames.add(id);
+    return id;
+  };
+  window.cancelAnimationFrame = (id) => {
+    live.frames.delete(id);
+    cancel(id);
+  };
+  window.ResizeObserver = class extends window.ResizeObserver {
+    observe(...args) {
+      live.observers.add(this);
+      super.observe(...args);
+    }
+    disconnect() {
+      live.observers.delete(this);
+      super.disconnect();
+    }
+  };
+  const add = EventTarget.prototype.addEventListener;
+  const remove = EventTarget.prototype.removeEventListener;
+  const capture = (options) => (typeof options === "boolean" ? options : Boolean(options?.capture));
+  const find = (target, type, listener, options) =>
+    live.listeners.find((l) => l.target === target && l.type === type && l.listener === listener && l.capture === capture(options));
+  const forget = (record) => {
+    const i = live.listeners.indexOf(record);
+    if (i >= 0) live.listeners.splice(i, 1);
+  };
+  EventTarget.prototype.addEventListener = function (type, listener, options) {
+    add.call(this, type, listener, options);
+    const signal = options?.signal;
+    if (!listener || find(this, type, listener, options) || signal?.aborted) return;
+    const record = { target: this, type, listener, capture: capture(options) };
+    live.listeners.push(record);
+    if (signal) add.call(signal, "abort", () => forget(record), { once: true });
+  };
+  EventTarget.prototype.removeEventListener = function (type, listener, options) {
+    remove.call(this, type, listener, options);
+    const record = find(this, type, listener, options);
+    if (record) forget(record);
+  };
+}
+
+const liveCounts = (page) => page.evaluate(() => ({
+  frames: window.__live.frames.size,
+  observers: window.__live.observers.size,
+  listeners: window.__live.listeners.length,
+}));
+
+test("20 players mount and destroy, leaving no animation loop, observer or listener", async () => {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(String(e)));
+  await page.addInitScript(instrument);
+  await page.goto(server.url + "/test/empty.html");
+  await page.waitForFunction(() => window.mount);
+  const baseline = await liveCounts(page);
+  const ROUNDS = 5;
+  const AT_ONCE = 4;
+  let mounted = 0;
+  for (let round = 0; round < ROUNDS; round++) {
+    // Four at a time, each kind of player: full and minimal chrome, keys page-wide or not.
+    await page.evaluate(async (n) => {
+      window.handles = await Promise.all(Array.from({ length: n }, (_, i) => {
+        const div = document.createElement("div");
+        div.style.height = "300px";
+        document.body.append(div);
+        return window.mount(div, { chrome: i % 2 ? "full" : "minimal", keyboard: i < 2 ? "document" : undefined, autoplay: true });
+      }));
+    }, AT_ONCE);
+    mounted += AT_ONCE;
+    // Running: each player has its loop and observer, and its frame moves on.
+    await page.waitForFunction(() => window.handles.every((h) => h.player.frame() > 0), null, { timeout: 10000 });
+    const running = await liveCounts(page);
+    assert.ok(running.frames >= AT_ONCE, `round ${round}: ${running.frames} animation frames pending while running`);
+    assert.equal(running.observers, baseline.observers + AT_ONCE);
+    assert.ok(running.listeners > baseline.listeners + 10 * AT_ONCE, `${running.listeners} listeners while running`);
+    if (round === 0) console.log(`${AT_ONCE} players running: ${JSON.stringify(running)} (page alone: ${JSON.stringify(baseline)})`);
+    const freed = await page.evaluate(() => window.handles.map((h) => {
+      const { player, element } = h;
+      h.destroy();
+      h.destroy(); // twice is harmless
+      element.remove();
+      let threw = false;
+      try {
+        player.frame();
+      } catch {
+        threw = true;
+      }
+      return threw && element.childElementCount === 0 && element.embusen === undefined;
+    }));
+    assert.deepEqual(freed, Array(AT_ONCE).fill(true), "each Player freed (a call on it throws) and its element emptied");
+  }
+  // Whatever frame was already due has run: nothing asks for another.
+  await page.waitForTimeout(300);
+  const after = await liveCounts(page);
+  console.log(`after ${mounted} players mounted and destroyed: ${JSON.stringify(after)}`);
+  assert.equal(mounted, 20);
+  assert.deepEqual(after, baseline, "no animation frame, observer or listener left");
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test("a file dropped on a player opens once, and once when dropped beside it", async () => {
+  const { page, errors } = await openApp(browser, server.url, "/?autoplay=0");
+  const drop = (selector, name) => page.evaluate(([selector, name]) => {
+    const handle = document.querySelector("#app").embusen;
+    const data = new DataTransfer();
+    data.items.add(new File([handle.player.export_recording().text], name));
+    document.querySelector(selector).dispatchEvent(new DragEvent("drop", { bubbles: true, cancelable: true, dataTransfer: data }));
+  }, [selector, name]);
+  // Count the player's loads.
+  await page.evaluate(() => {
+    const player = document.querySelector("#app").embusen.player;
+    const load = player.load.bind(player);
+    window.loads = [];
+    player.load = (name, ...rest) => {
+      window.loads.push(name);
+      return load(name, ...rest);
+    };
+  });
+  await drop("#app canvas.view", "dropped.bvh");
+  await page.waitForFunction(() => document.querySelector("#app").embusen.player.info().name === "dropped.bvh");
+  await waitReady(page);
+  await drop("header h1", "beside.bvh");
+  await page.waitForFunction(() => document.querySelector("#app").embusen.player.info().name === "beside.bvh");
+  await waitReady(page);
+  await page.waitForTimeout(300);
+  assert.deepEqual(await page.evaluate(() => window.loads), ["dropped.bvh", "beside.bvh"]);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test("a panic in the wasm module shows in the player and stops it", async () => {
+  const { page } = await openApp(browser, server.url);
+  await page.evaluate(() => window.dispatchEvent(new CustomEvent("embusen-panic", { detail: "panicked at src/web/mod.rs:1:1: boom" })));
+  const message = await page.textContent("#app .error:not([hidden])");
+  assert.match(message, /internal error.*boom/);
+  const stopped = await frameOf(page);
+  await page.waitForTimeout(300);
+  assert.equal(await frameOf(page), stopped, "the loop stopped");
+  await page.screenshot({ path: join(SCREENSHOTS, "panic.png") });
+  await page.close();
+});
+
+test("the download is at most 300 KB gzipped", () => {
+  const files = ["pkg/embusen_bg.wasm", "pkg/embusen.js", "embusen.js", "index.html", "embed.html", "style.css"];
+  const sizes = files.map((f) => gzipSync(readFileSync(join(DIST, f)), { level: 9 }).length);
+  const total = sizes.reduce((a, b) => a + b, 0);
+  console.log(`download: ${(total / 1000).toFixed(1)} KB gzipped (${files.map((f, i) => `${f} ${(sizes[i] / 1000).toFixed(1)}`).join(", ")}); limit 300 KB`);
+  assert.ok(total <= 300_000, `the app downloads ${total} bytes gzipped, over 300 KB`);
 });

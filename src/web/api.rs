@@ -1,0 +1,269 @@
+//! The typed boundary between the page and the [`Player`](super::Player):
+//! what crosses it as plain JavaScript objects, (de)serialised by serde
+//! through serde-wasm-bindgen, their TypeScript types derived from these
+//! (tsify) into `embusen.d.ts`, which `www/embusen.js` is checked against.
+//! An unknown value or field is an error that names it, never a fallback.
+
+use serde::{Deserialize, Serialize};
+use tsify::{Ts, Tsify};
+use wasm_bindgen::JsCast;
+
+use crate::app::clock::{self, Clock};
+use crate::app::session;
+use crate::io::recording::FeetChoice;
+use crate::translate::contact::SOLE_DEPTHS_CM;
+use crate::translate::paper;
+
+/// The translation method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Tsify)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    Contact,
+    Paper,
+}
+
+/// How the paper method smooths the foot signals (as `paper::Smoothing`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Tsify)]
+#[serde(rename_all = "lowercase")]
+pub enum Smoothing {
+    Faithful,
+    Clean,
+}
+
+/// How the original (uncorrected) skeleton is shown: over the corrected one,
+/// beside it, or not at all.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, Tsify)]
+#[serde(rename_all = "lowercase")]
+pub enum Ghost {
+    #[default]
+    Overlay,
+    Side,
+    Hidden,
+}
+
+/// The method settings, as one object. `sole_depth_cm` is the contact
+/// method's (`null`: estimated); `smoothing`, `window_s` and `dy_eps_cm` are
+/// the paper method's; a foot `null` is detected.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Tsify)]
+#[serde(deny_unknown_fields)]
+#[tsify(missing_as_null)]
+pub struct Settings {
+    pub method: Method,
+    pub smoothing: Smoothing,
+    pub window_s: f64,
+    pub dy_eps_cm: f64,
+    pub sole_depth_cm: Option<f64>,
+    pub left_foot: Option<String>,
+    pub right_foot: Option<String>,
+}
+
+/// The values a number setting may take, for the page's inputs and the check.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, Tsify)]
+pub struct NumberRange {
+    pub min: f64,
+    pub max: f64,
+    pub step: f64,
+}
+
+impl NumberRange {
+    fn check(self, name: &str, value: f64) -> Result<(), String> {
+        if (self.min..=self.max).contains(&value) {
+            Ok(())
+        } else {
+            Err(format!("{name} must be between {} and {}, not {value}", self.min, self.max))
+        }
+    }
+}
+
+/// The paper method's smoothing window (s).
+pub const WINDOW_S: NumberRange = NumberRange { min: 0.05, max: 10.0, step: 0.05 };
+/// The paper method's height difference that pins a foot (cm).
+pub const DY_EPS_CM: NumberRange = NumberRange { min: 0.0, max: 100.0, step: 0.5 };
+
+impl Settings {
+    /// The settings from the page's object; an unknown value or field is an
+    /// error that names it. (serde-wasm-bindgen reads a struct's fields by
+    /// name and never sees any other, so `deny_unknown_fields` alone would
+    /// let a misspelt field pass: the keys are checked here.)
+    pub fn from_js(value: Ts<Settings>) -> Result<Settings, String> {
+        let value = value.js_value();
+        if let Some(object) = value.dyn_ref::<js_sys::Object>() {
+            let known =
+                Settings::from_session(&session::Settings::default()).into_js().map_err(|e| e.to_string())?;
+            let known = js_sys::Object::keys(known.unchecked_ref::<js_sys::Object>());
+            for key in js_sys::Object::keys(object).iter() {
+                if !known.includes(&key, 0) {
+                    let names: Vec<String> = known.iter().filter_map(|k| k.as_string()).collect();
+                    let key = key.as_string().unwrap_or_default();
+                    return Err(format!("unknown setting `{key}`, expected one of `{}`", names.join("`, `")));
+                }
+            }
+        }
+        let settings: Settings =
+            serde_wasm_bindgen::from_value(value).map_err(|e| format!("settings: {e}"))?;
+        Ok(settings)
+    }
+
+    /// The page's view of the session's settings.
+    pub fn from_session(s: &session::Settings) -> Settings {
+        Settings {
+            method: if s.use_paper { Method::Paper } else { Method::Contact },
+            smoothing: match s.paper.smoothing {
+                paper::Smoothing::Faithful => Smoothing::Faithful,
+                paper::Smoothing::Clean => Smoothing::Clean,
+            },
+            window_s: s.paper.window_s,
+            dy_eps_cm: s.paper.dy_eps_cm,
+            sole_depth_cm: s.contact.sole_depth_cm,
+            left_foot: s.feet.left.clone(),
+            right_foot: s.feet.right.clone(),
+        }
+    }
+
+    /// `base` with these settings applied; the parameters the page does not
+    /// set stay as in `base`. An error names a value out of its range.
+    pub fn apply_to(&self, base: &session::Settings) -> Result<session::Settings, String> {
+        WINDOW_S.check("the window", self.window_s)?;
+        DY_EPS_CM.check("dyEps", self.dy_eps_cm)?;
+        let mut s = base.clone();
+        s.use_paper = self.method == Method::Paper;
+        s.paper.smoothing = match self.smoothing {
+            Smoothing::Faithful => paper::Smoothing::Faithful,
+            Smoothing::Clean => paper::Smoothing::Clean,
+        };
+        s.paper.window_s = self.window_s;
+        s.paper.dy_eps_cm = self.dy_eps_cm;
+        s.contact.sole_depth_cm = self.sole_depth_cm;
+        s.contact.check()?;
+        s.feet = FeetChoice { left: self.left_foot.clone(), right: self.right_foot.clone() };
+        Ok(s)
+    }
+}
+
+/// One entry of a choice list: the value to send and what the page shows.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Tsify)]
+pub struct Choice<T> {
+    pub value: T,
+    pub label: String,
+}
+
+fn choice<T>(value: T, label: &str) -> Choice<T> {
+    Choice { value, label: label.to_string() }
+}
+
+/// What a player starts with.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Tsify)]
+#[tsify(missing_as_null)]
+pub struct Defaults {
+    pub settings: Settings,
+    pub speed: f64,
+    pub looping: bool,
+    pub follow: bool,
+    pub ghost: Ghost,
+}
+
+/// Every choice the page offers, and the defaults, so the page copies none.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Tsify)]
+#[tsify(missing_as_null)]
+pub struct Options {
+    pub methods: Vec<Choice<Method>>,
+    pub smoothings: Vec<Choice<Smoothing>>,
+    /// The contact method's sole depths (cm) to choose from, besides `null`
+    /// (estimated among these).
+    pub sole_depths_cm: Vec<f64>,
+    pub window_s: NumberRange,
+    pub dy_eps_cm: NumberRange,
+    pub speeds: Vec<f64>,
+    pub ghosts: Vec<Choice<Ghost>>,
+    pub defaults: Defaults,
+}
+
+/// Whether a new player follows the hips with the camera.
+pub const FOLLOW_DEFAULT: bool = false;
+
+impl Options {
+    pub fn new() -> Options {
+        let clock = Clock::default();
+        Options {
+            methods: vec![
+                choice(Method::Contact, "contact"),
+                choice(Method::Paper, "paper (Hachaj & Ogiela)"),
+            ],
+            smoothings: vec![choice(Smoothing::Faithful, "faithful (R)"), choice(Smoothing::Clean, "clean")],
+            sole_depths_cm: SOLE_DEPTHS_CM.to_vec(),
+            window_s: WINDOW_S,
+            dy_eps_cm: DY_EPS_CM,
+            speeds: clock::SPEEDS.to_vec(),
+            ghosts: vec![
+                choice(Ghost::Overlay, "overlay"),
+                choice(Ghost::Side, "side by side"),
+                choice(Ghost::Hidden, "hidden"),
+            ],
+            defaults: Defaults {
+                settings: Settings::from_session(&session::Settings::default()),
+                speed: clock.speed(),
+                looping: clock.looping(),
+                follow: FOLLOW_DEFAULT,
+                ghost: Ghost::default(),
+            },
+        }
+    }
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options::new()
+    }
+}
+
+/// The contact method's sole depth in use.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, Tsify)]
+pub struct SoleDepth {
+    /// How far the sole lies below the foot's lowest joint (cm).
+    pub depth_cm: f64,
+    /// Estimated from the recording, not set.
+    pub estimated: bool,
+}
+
+/// A foot joint's name per foot.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Tsify)]
+pub struct FootNames {
+    pub left: String,
+    pub right: String,
+}
+
+/// What the info panel shows about the open recording and its result.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Tsify)]
+#[tsify(missing_as_null)]
+pub struct Info {
+    pub name: String,
+    pub joint_names: Vec<String>,
+    pub frame_count: usize,
+    pub fps: f64,
+    pub duration_s: f64,
+    /// The foot joints in use, detected or chosen.
+    pub feet: FootNames,
+    pub method: Method,
+    /// The contact method's; `null` for the paper method and feet without toes.
+    pub sole_depth: Option<SoleDepth>,
+    /// Where the foot accelerations came from.
+    pub accel_source: String,
+    /// The reader's and the method's warnings.
+    pub warnings: Vec<String>,
+}
+
+/// A file to download.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Tsify)]
+pub struct Export {
+    pub name: String,
+    pub text: String,
+}
+
+/// A plot panel in pixels of the plot canvas.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, Tsify)]
+pub struct PlotPanel {
+    pub x: f32,
+    pub y: f32,
+    pub width: f32,
+    pub height: f32,
+}
