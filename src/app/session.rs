@@ -123,7 +123,7 @@ pub fn plot_data(recording: &Recording, t: &Translated, settings: &Settings) -> 
                 .collect(),
         ),
         Decisions::Contact(contact) => (
-            contact.clearance_cm.clone(),
+            [contact.clearance_cm.left.clone(), contact.clearance_cm.right.clone()],
             "foot clearance above the floor (cm)".to_string(),
             contact
                 .support
