@@ -15,8 +15,8 @@
 //!    sole point (or both feet) in each frame, the method takes the one
 //!    sequence over the whole recording along which the centre of mass's
 //!    changes of velocity are best explained by the floor pushing it from the
-//!    pinned foot (the inverted pendulum, [`pressure`]), solved exactly by
-//!    dynamic programming ([`solve`]). Where no foot explains the motion — in
+//!    pinned foot (the inverted pendulum, `pressure.rs`), solved exactly by
+//!    dynamic programming (`solve.rs`). Where no foot explains the motion — in
 //!    the air, or while one foot slides in as the other slides out — the
 //!    centre of mass *coasts*: it keeps its horizontal velocity, as in flight
 //!    it must.
@@ -24,13 +24,13 @@
 //!    sole point on the floor. Over a coasting stretch the centre of mass
 //!    follows the parabola that gravity gives between take-off and landing;
 //!    where that lifts both feet off the floor, and the body was thrown up
-//!    into it, it is a flight ([`flight`]), and no foot ever goes below the
+//!    into it, it is a flight (`flight.rs`), and no foot ever goes below the
 //!    floor.
 //!
 //! Everything is in seconds and centimetres ([`ContactParams`]), and the
 //! costs are integrals over time. The contacts are chosen on frames about
 //! 1/30 s apart, once for each way of taking them, and the paths averaged
-//! ([`grid`]), so that a jump of velocity, where the pinned point changes,
+//! (`grid.rs`), so that a jump of velocity, where the pinned point changes,
 //! weighs about what it weighs at 30 fps at any rate. The cost is
 //! O(frames × sole points²) per sole depth tried, plus O(frames × step) to
 //! bring the grids back to every frame. Measured figures and the method's

@@ -32,16 +32,16 @@ pub struct ContactParams {
     /// height or an accelerometer reading held for this long costs its
     /// square once, and so does a velocity change spread over it, so a
     /// second of evidence weighs the same at any frame rate. The contacts
-    /// are chosen on frames about this far apart (see
-    /// [`grid_step`](super::grid::grid_step)): a change of pinned point is a
-    /// jump of velocity, and a jump costs once per frame it happens in.
+    /// are chosen on frames about this far apart (see the sampling grid in
+    /// `grid.rs`): a change of pinned point is a jump of velocity, and a jump
+    /// costs once per frame it happens in.
     pub cost_time_s: f64,
     /// A second of coasting costs as much as this many velocity changes of
     /// one `slip_cm_per_s`. Pinning a foot that slides at `u` costs
     /// `(u / slip)²` when it starts and again when it stops, however long it
-    /// slides: a running flight (~0.15 s, every foot ≥ 100 cm/s off) costs
-    /// far more pinned than coasting, a walk's handover (~0.1 s, feet
-    /// ~40 cm/s off) about as much, and mostly stays pinned.
+    /// slides: a running flight (~0.15 s, every foot ≥ 100 cm/s off: ≥ 32
+    /// pinned against 9 coasting) coasts, and a walk's handover (~0.1 s, feet
+    /// ~40 cm/s off: ~5 against 6) mostly does not.
     pub coast_cost_per_s: f64,
     /// The longest a body can coast (s): the time in the air of a standing
     /// jump 30 cm high. Without a limit one wrong velocity would be carried
@@ -76,7 +76,9 @@ pub struct ContactParams {
     pub min_takeoff_cm_per_s: f64,
     /// How long (s) before a take-off, or after a landing, the centre of
     /// mass's rise or fall is measured to tell a flight (see
-    /// `min_takeoff_cm_per_s`): about a third of a running step's push-off.
+    /// `min_takeoff_cm_per_s`): a few frames, so that one frame's jitter does
+    /// not decide, and well within a running stance (~0.2 s), so that what is
+    /// measured is the push-off.
     pub ballistic_evidence_s: f64,
     /// A centre of mass lower than this above the floor (cm) is taken to be
     /// this high when reckoning the floor's push: a body crouched or lying
