@@ -94,15 +94,12 @@ impl Grid {
         self.phases
             .iter()
             .map(|frames| {
-                let problem = Problem {
-                    footing: Footing::new(soles.as_ref().map(|sole| sole.at_frames(frames))),
-                    hips_to_com_cm: frames.iter().map(|&f| motion.hips_to_com_cm[f]).collect(),
-                    accel_off_g: motion
-                        .accel_off_g
-                        .as_ref()
-                        .map(|off| frames.iter().map(|&f| off[f]).collect()),
+                let problem = Problem::new(
+                    Footing::new(soles.as_ref().map(|sole| sole.at_frames(frames))),
+                    frames.iter().map(|&f| motion.hips_to_com_cm[f]).collect(),
+                    motion.accel_off_g.as_ref().map(|off| frames.iter().map(|&f| off[f]).collect()),
                     dt,
-                };
+                );
                 let solution = problem.solve(params);
                 PhaseChoice { problem, solution }
             })

@@ -54,6 +54,9 @@ pub(super) struct Problem {
     pub accel_off_g: PerFoot<Vec<Option<f64>>>,
     /// The time between the grid's frames (s).
     pub dt: f64,
+    /// Every candidate, in the order of [`Footing::candidates`]: coasting
+    /// last.
+    candidates: Vec<Candidate>,
 }
 
 /// The contacts chosen for a [`Problem`].
@@ -78,6 +81,14 @@ struct Trellis {
     carried: Vec<DVec3>,
 }
 
+/// Per candidate, the best sequence ending in it in one frame.
+struct Column {
+    /// Its cost.
+    cost: Vec<f64>,
+    /// The centre of mass's horizontal velocity it ends with (cm/s).
+    com_velocity: Vec<DVec3>,
+}
+
 /// The best way into one candidate in one frame.
 struct WayIn {
     cost: f64,
@@ -85,15 +96,24 @@ struct WayIn {
 }
 
 impl Problem {
+    pub fn new(
+        footing: Footing,
+        hips_to_com_cm: Vec<DVec3>,
+        accel_off_g: PerFoot<Vec<Option<f64>>>,
+        dt: f64,
+    ) -> Problem {
+        let candidates = footing.candidates();
+        Problem { footing, hips_to_com_cm, accel_off_g, dt, candidates }
+    }
+
     pub fn frame_count(&self) -> usize {
         self.hips_to_com_cm.len()
     }
 
     /// The best sequence of candidates (see the module documentation).
     pub fn solve(&self, params: &ContactParams) -> Solution {
-        let candidates = self.footing.candidates();
-        let trellis = self.forward(&candidates, params);
-        self.backtrack(&candidates, &trellis)
+        let trellis = self.forward(params);
+        self.backtrack(&trellis)
     }
 
     /// The hips' horizontal velocity from frame `f - 1` to `f` (cm/s) if
@@ -163,71 +183,87 @@ impl Problem {
 
     /// The forward pass: frame by frame, per candidate, the best sequence
     /// ending in it.
-    fn forward(&self, candidates: &[Candidate], params: &ContactParams) -> Trellis {
+    fn forward(&self, params: &ContactParams) -> Trellis {
+        let candidates = &self.candidates;
         let n = self.frame_count();
         let m = candidates.len();
         let coast = m - 1;
-        // Per candidate: the best cost of a sequence ending in it, and the
-        // centre of mass's velocity it ends with.
-        let mut cost: Vec<f64> = candidates.iter().map(|&c| self.own_cost(c, 0, params)).collect();
-        let mut com_velocity = vec![DVec3::ZERO; m];
+        let mut column = Column {
+            cost: candidates.iter().map(|&c| self.own_cost(c, 0, params)).collect(),
+            com_velocity: vec![DVec3::ZERO; m],
+        };
+        let mut next = Column { cost: vec![0.0; m], com_velocity: vec![DVec3::ZERO; m] };
         let mut back = vec![0u32; n * m];
         let mut carried = vec![DVec3::ZERO; n];
         // How many frames coasting's best way in has been coasting.
         let mut coast_frames = 0usize;
         let max_coast_frames = (params.max_coast_s / self.dt).round().max(1.0) as usize;
-        let mut next_cost = vec![0.0; m];
-        let mut next_velocity = vec![DVec3::ZERO; m];
-        // A velocity change within one frame, in units of `cost_time_s`.
-        let per_change = params.cost_time_s / self.dt;
-        for f in 1..n {
-            let hips_to_com_velocity = self.hips_to_com_velocity(f);
-            // The floor's push between the velocity of frames f - 2 → f - 1
-            // and that of f - 1 → f, at frame f - 1.
-            let pushed = f - 1;
-            let push = FloorPush::new(
-                self.hips_to_com_cm[pushed],
-                self.footing.lowest.standing_cm[pushed],
-                self.dt,
-                params.min_com_height_cm,
-            );
+        for (f, back) in back.chunks_exact_mut(m).enumerate().skip(1) {
             // A coasting stretch that has lasted its longest can only land.
             let coast_is_over = coast_frames >= max_coast_frames;
-            for (i, &candidate) in candidates.iter().enumerate() {
-                let own = self.own_cost(candidate, f, params);
-                if !own.is_finite() {
-                    next_cost[i] = f64::INFINITY;
-                    continue;
-                }
-                let now = self.footing.hips_velocity(candidate, f, self.dt).map(|v| v + hips_to_com_velocity);
-                let range = push.range_from(self.footing.pressure_segment(candidate, pushed));
-                let barred = (i == coast && coast_is_over).then_some(coast);
-                // Coasting keeps the velocity it comes in with; frame 0 has
-                // no velocity to compare with.
-                let unexplained = |j: usize| match now {
-                    Some(v) if f > 1 => {
-                        range.unexplained(horizontal(v - com_velocity[j])).length() / params.slip_cm_per_s
-                    }
-                    _ => 0.0,
-                };
-                let way_in = best_way_in(&cost, barred, coast, |j| {
-                    let u = unexplained(j);
-                    u * u * per_change
-                });
-                next_cost[i] = way_in.cost + own;
-                next_velocity[i] = now.unwrap_or(if f > 1 { com_velocity[way_in.from] } else { DVec3::ZERO });
-                back[f * m + i] = way_in.from as u32;
-            }
-            carried[f] = next_velocity[coast];
-            coast_frames = if back[f * m + coast] as usize == coast { coast_frames + 1 } else { 1 };
-            std::mem::swap(&mut cost, &mut next_cost);
-            std::mem::swap(&mut com_velocity, &mut next_velocity);
+            self.advance(f, &column, &mut next, back, coast_is_over, params);
+            carried[f] = next.com_velocity[coast];
+            coast_frames = if back[coast] as usize == coast { coast_frames + 1 } else { 1 };
+            std::mem::swap(&mut column, &mut next);
         }
-        Trellis { cost, back, carried }
+        Trellis { cost: column.cost, back, carried }
+    }
+
+    /// One frame of the forward pass: from the best sequences ending in
+    /// frame `f - 1` (`column`), those ending in frame `f` (`next`), and per
+    /// candidate the one before it (`back`). A candidate that cannot hold in
+    /// frame `f` costs infinitely and keeps its stale velocity.
+    fn advance(
+        &self,
+        f: usize,
+        column: &Column,
+        next: &mut Column,
+        back: &mut [u32],
+        coast_is_over: bool,
+        params: &ContactParams,
+    ) {
+        let candidates = &self.candidates;
+        let coast = candidates.len() - 1;
+        // A velocity change within one frame, in units of `cost_time_s`.
+        let per_change = params.cost_time_s / self.dt;
+        let hips_to_com_velocity = self.hips_to_com_velocity(f);
+        // The floor's push between the velocity of frames f - 2 → f - 1 and
+        // that of f - 1 → f, at frame f - 1.
+        let pushed = f - 1;
+        let standing_cm = self.footing.lowest.standing_cm[pushed];
+        let push =
+            FloorPush::new(self.hips_to_com_cm[pushed], standing_cm, self.dt, params.min_com_height_cm);
+        for (i, &candidate) in candidates.iter().enumerate() {
+            let own = self.own_cost(candidate, f, params);
+            if !own.is_finite() {
+                next.cost[i] = f64::INFINITY;
+                continue;
+            }
+            let now = self.footing.hips_velocity(candidate, f, self.dt).map(|v| v + hips_to_com_velocity);
+            let range = push.range_from(self.footing.pressure_segment(candidate, pushed));
+            let barred = (i == coast && coast_is_over).then_some(coast);
+            // Coasting keeps the velocity it comes in with; frame 0 has no
+            // velocity to compare with.
+            let unexplained = |j: usize| match now {
+                Some(v) if f > 1 => {
+                    range.unexplained(horizontal(v - column.com_velocity[j])).length() / params.slip_cm_per_s
+                }
+                _ => 0.0,
+            };
+            let way_in = best_way_in(&column.cost, barred, coast, |j| {
+                let u = unexplained(j);
+                u * u * per_change
+            });
+            next.cost[i] = way_in.cost + own;
+            next.com_velocity[i] =
+                now.unwrap_or(if f > 1 { column.com_velocity[way_in.from] } else { DVec3::ZERO });
+            back[i] = way_in.from as u32;
+        }
     }
 
     /// The best sequence, read back from the trellis's cheapest end.
-    fn backtrack(&self, candidates: &[Candidate], trellis: &Trellis) -> Solution {
+    fn backtrack(&self, trellis: &Trellis) -> Solution {
+        let candidates = &self.candidates;
         let n = self.frame_count();
         let m = candidates.len();
         let cost = &trellis.cost;
