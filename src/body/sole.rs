@@ -224,7 +224,7 @@ struct Rocker {
     under: Vec<usize>,
     /// Frame-major, one per bone: forward along the bone's sole, and down,
     /// perpendicular to it.
-    axes: Vec<(DVec3, DVec3)>,
+    axes: Vec<SoleAxes>,
     bone_count: usize,
     heel_behind_cm: f64,
     /// The sole point under the toe farthest from the ankle.
@@ -233,6 +233,124 @@ struct Rocker {
 
 /// A bone `from → to` of the foot, as indices into [`FootShape::joints`].
 type Bone = (usize, usize);
+
+/// One foot's joint paths relative to the hips: frame-major, `count` joints
+/// per frame (in [`FootShape::joints`] order), `n` frames.
+struct JointPaths<'a> {
+    points: &'a [DVec3],
+    count: usize,
+    n: usize,
+}
+
+impl JointPaths<'_> {
+    /// Joint `k` in frame `f`.
+    fn at(&self, f: usize, k: usize) -> DVec3 {
+        self.points[f * self.count + k]
+    }
+
+    /// The median distance between joints `k` and `from` over the frames
+    /// `standing` (cm).
+    fn length_cm(&self, k: usize, from: usize, standing: &[usize]) -> f64 {
+        upper_median(
+            &standing.iter().map(|&f| (self.at(f, k) - self.at(f, from)).length()).collect::<Vec<_>>(),
+        )
+    }
+}
+
+/// Forward along a bone's sole, and down, perpendicular to it (unit
+/// vectors).
+#[derive(Clone, Copy, Debug)]
+struct SoleAxes {
+    forward: DVec3,
+    down: DVec3,
+}
+
+/// A bone's dip toward its end (radians, positive down). Trigonometry
+/// through `libm`, so the CLI and the wasm app compute bit-identical results.
+fn dip(v: DVec3) -> f64 {
+    libm::asin((-v.y / v.length()).clamp(-1.0, 1.0))
+}
+
+impl Rocker {
+    /// The rocker of a foot whose long axis runs from the ankle to `toe`,
+    /// `toe_cm` away, with `toes` (and their `parent`s) below the ankle.
+    fn new(
+        paths: &JointPaths,
+        standing: &[usize],
+        toes: &[usize],
+        parent: &[Option<usize>],
+        toe: usize,
+        toe_cm: f64,
+    ) -> Rocker {
+        // The bone whose sole lies under joint `k`: the bone starting at `k`
+        // when there is one (a ball-of-foot joint with its toes), else the
+        // bone ending at `k` (a toe end site, or a toe joint whose end site
+        // has no length); the long axis where neither is.
+        let bone_under = |k: usize| -> Bone {
+            let starting = toes.iter().find(|&&c| parent[c] == Some(k)).map(|&c| (k, c));
+            starting
+                .or_else(|| parent[k].filter(|_| toes.contains(&k)).map(|from| (from, k)))
+                .unwrap_or((0, toe))
+        };
+        let mut bones: Vec<Bone> = vec![(0, toe)];
+        let under: Vec<usize> = toes
+            .iter()
+            .map(|&k| {
+                let bone = bone_under(k);
+                bones.iter().position(|&b| b == bone).unwrap_or_else(|| {
+                    bones.push(bone);
+                    bones.len() - 1
+                })
+            })
+            .collect();
+        // Each bone dips toward its end in a flat foot; its median dip while
+        // standing tells where "flat" is for this skeleton.
+        let flat_dips: Vec<f64> = bones
+            .iter()
+            .map(|&(a, b)| {
+                upper_median(
+                    &standing.iter().map(|&f| dip(paths.at(f, b) - paths.at(f, a))).collect::<Vec<_>>(),
+                )
+            })
+            .collect();
+        Rocker {
+            under,
+            axes: sole_axes(paths, &bones, &flat_dips),
+            bone_count: bones.len(),
+            heel_behind_cm: HEEL_BEHIND_ANKLE * toe_cm * libm::cos(flat_dips[0]),
+            tip: 2 + toes.iter().position(|&k| k == toe).unwrap_or(0),
+        }
+    }
+}
+
+/// Frame-major, per frame and bone, the axes of the bone's sole: the bone's
+/// heading on the floor, tilted by how far it dips beyond its `flat_dips`.
+fn sole_axes(paths: &JointPaths, bones: &[Bone], flat_dips: &[f64]) -> Vec<SoleAxes> {
+    let mut headings = vec![DVec3::Z; bones.len()];
+    let mut now = vec![SoleAxes { forward: DVec3::Z, down: -DVec3::Y }; bones.len()];
+    let mut axes = Vec::with_capacity(paths.n * bones.len());
+    for f in 0..paths.n {
+        for (i, &(a, b)) in bones.iter().enumerate() {
+            let v = paths.at(f, b) - paths.at(f, a);
+            // A bone with no length in this frame (a mis-tracked frame) has
+            // no direction: its sole keeps the last frame's axes.
+            if v.length() <= 1e-9 {
+                continue;
+            }
+            let flat = v.with_y(0.0);
+            if flat.length() > 1e-6 * v.length() {
+                headings[i] = flat.normalize();
+            }
+            let tilt = dip(v) - flat_dips[i];
+            now[i] = SoleAxes {
+                forward: headings[i] * libm::cos(tilt) - DVec3::Y * libm::sin(tilt),
+                down: -headings[i] * libm::sin(tilt) - DVec3::Y * libm::cos(tilt),
+            };
+        }
+        axes.extend_from_slice(&now);
+    }
+    axes
+}
 
 impl FootShape {
     fn new(
@@ -243,82 +361,22 @@ impl FootShape {
         n: usize,
     ) -> Self {
         let count = joints.len();
-        let p = |f: usize, k: usize| joint_points[f * count + k];
+        let paths = JointPaths { points: &joint_points, count, n };
         let parent: Vec<Option<usize>> = joints
             .iter()
             .map(|&j| parents.get(j).copied().flatten().and_then(|p| joints.iter().position(|&x| x == p)))
             .collect();
-        let length = |k: usize, from: usize| {
-            upper_median(&standing.iter().map(|&f| (p(f, k) - p(f, from)).length()).collect::<Vec<_>>())
-        };
-        let toes: Vec<usize> =
-            (1..count).filter(|&k| parent[k].is_some_and(|from| length(k, from) >= MIN_BONE_CM)).collect();
+        let toes: Vec<usize> = (1..count)
+            .filter(|&k| parent[k].is_some_and(|from| paths.length_cm(k, from, &standing) >= MIN_BONE_CM))
+            .collect();
         let offsets_cm = floor_offsets(&joint_points, count, &standing);
-        // The bone whose sole lies under joint `k`: the bone starting at `k`
-        // when there is one (a ball-of-foot joint with its toes), else the
-        // bone ending at `k` (a toe end site, or a toe joint whose end site
-        // has no length).
-        let bone_under = |k: usize| -> Option<Bone> {
-            let starting = toes.iter().find(|&&c| parent[c] == Some(k)).map(|&c| (k, c));
-            starting.or_else(|| parent[k].filter(|_| toes.contains(&k)).map(|from| (from, k)))
-        };
         // The foot's long axis: from the ankle to the toe joint farthest from it.
-        let far: Vec<(usize, f64)> = toes.iter().map(|&k| (k, length(k, 0))).collect();
-        let rocker = far.iter().copied().max_by(|a, b| a.1.total_cmp(&b.1)).map(|(toe, toe_cm)| {
-            let mut bones: Vec<Bone> = vec![(0, toe)];
-            let under: Vec<usize> = toes
-                .iter()
-                .map(|&k| {
-                    let bone = bone_under(k).unwrap_or((0, toe));
-                    bones.iter().position(|&b| b == bone).unwrap_or_else(|| {
-                        bones.push(bone);
-                        bones.len() - 1
-                    })
-                })
-                .collect();
-            // Each bone dips toward its end in a flat foot; its median dip
-            // while standing tells where "flat" is for this skeleton.
-            // Trigonometry through `libm`, so the CLI and the wasm app compute
-            // bit-identical results.
-            let dip = |v: DVec3| libm::asin((-v.y / v.length()).clamp(-1.0, 1.0));
-            let flat_dips: Vec<f64> = bones
-                .iter()
-                .map(|&(a, b)| {
-                    upper_median(&standing.iter().map(|&f| dip(p(f, b) - p(f, a))).collect::<Vec<_>>())
-                })
-                .collect();
-            let mut headings = vec![DVec3::Z; bones.len()];
-            let mut now = vec![(DVec3::Z, -DVec3::Y); bones.len()];
-            let mut axes = Vec::with_capacity(n * bones.len());
-            for f in 0..n {
-                for (i, &(a, b)) in bones.iter().enumerate() {
-                    let v = p(f, b) - p(f, a);
-                    // A bone with no length in this frame (a mis-tracked
-                    // frame) has no direction: its sole keeps the last
-                    // frame's axes.
-                    if v.length() <= 1e-9 {
-                        continue;
-                    }
-                    let flat = v.with_y(0.0);
-                    if flat.length() > 1e-6 * v.length() {
-                        headings[i] = flat.normalize();
-                    }
-                    let tilt = dip(v) - flat_dips[i];
-                    now[i] = (
-                        headings[i] * libm::cos(tilt) - DVec3::Y * libm::sin(tilt),
-                        -headings[i] * libm::sin(tilt) - DVec3::Y * libm::cos(tilt),
-                    );
-                }
-                axes.extend_from_slice(&now);
-            }
-            Rocker {
-                under,
-                axes,
-                bone_count: bones.len(),
-                heel_behind_cm: HEEL_BEHIND_ANKLE * toe_cm * libm::cos(flat_dips[0]),
-                tip: 2 + toes.iter().position(|&k| k == toe).unwrap_or(0),
-            }
-        });
+        let far: Vec<(usize, f64)> = toes.iter().map(|&k| (k, paths.length_cm(k, 0, &standing))).collect();
+        let rocker = far
+            .iter()
+            .copied()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(toe, toe_cm)| Rocker::new(&paths, &standing, &toes, &parent, toe, toe_cm));
         FootShape { joints, joint_points, standing, offsets_cm, toes, rocker }
     }
 
@@ -346,11 +404,12 @@ impl FootShape {
         for f in 0..n {
             let axes = &rocker.axes[f * rocker.bone_count..(f + 1) * rocker.bone_count];
             let below = |k: usize, down: DVec3| p(f, k) + down * (self.offsets_cm[k] + sole_depth_cm);
-            let (forward, down) = axes[0];
+            let SoleAxes { forward, down } = axes[0];
             let under_ankle = below(0, down);
             sole_points.push(under_ankle - forward * rocker.heel_behind_cm);
             sole_points.push(under_ankle);
-            sole_points.extend(self.toes.iter().zip(&rocker.under).map(|(&k, &bone)| below(k, axes[bone].1)));
+            sole_points
+                .extend(self.toes.iter().zip(&rocker.under).map(|(&k, &bone)| below(k, axes[bone].down)));
         }
         let mut parts = vec![SolePart::Heel, SolePart::UnderAnkle];
         parts.extend(self.toes.iter().map(|&k| SolePart::Joint(self.joints[k])));
