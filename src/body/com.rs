@@ -29,9 +29,10 @@ pub const FOOT_MASS_FRACTION: f64 = 0.0145;
 
 /// The offset from the hips joint to the body's centre of mass, per frame
 /// (cm): both legs' segments at their Dempster fractions, and the rest of the
-/// mass (68% with both legs whole) at the mean of the other joints, not
-/// counting those above `hips`. A leg without a knee is weighed as its foot
-/// only; with no other joints the legs alone are averaged.
+/// mass (68% with both legs whole) at the mean of the other joints, the
+/// hips joint among them, not counting those above `hips`. A leg without a
+/// knee is weighed as its foot only; with no other joints the legs alone are
+/// averaged.
 pub fn hips_to_com_cm(poses: &Poses, parents: &[Option<usize>], feet: FootJoints, hips: usize) -> Vec<DVec3> {
     let legs = feet.map(|foot_joint| leg(parents, foot_joint, hips));
     let toes = feet.map(|foot_joint| foot_points(parents, foot_joint));
@@ -78,4 +79,33 @@ fn leg(parents: &[Option<usize>], foot_joint: usize, hips: usize) -> Vec<usize> 
         chain.push(parent);
     }
     chain
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_legs_weigh_their_dempster_fractions_and_the_rest_the_remainder() {
+        // Hips (0) at 90 cm; knees (1, 3) at 50 cm and feet (2, 4) at 10 cm,
+        // 10 cm either side; a head (5) at 160 cm.
+        let parents = [None, Some(0), Some(1), Some(0), Some(3), Some(0)];
+        let positions_cm = vec![
+            DVec3::new(0.0, 90.0, 0.0),
+            DVec3::new(-10.0, 50.0, 0.0),
+            DVec3::new(-10.0, 10.0, 0.0),
+            DVec3::new(10.0, 50.0, 0.0),
+            DVec3::new(10.0, 10.0, 0.0),
+            DVec3::new(0.0, 160.0, 0.0),
+        ];
+        let poses = Poses { joint_count: 6, positions_cm };
+        let com = hips_to_com_cm(&poses, &parents, FootJoints { left: 2, right: 4 }, 0);
+        // Per leg: the foot at 10 cm, the shank at 30, the thigh at 70; the
+        // other 67.8% at the mean of the hips and the head, 125 cm.
+        let leg_cm = FOOT_MASS_FRACTION * 10.0 + SHANK_MASS_FRACTION * 30.0 + THIGH_MASS_FRACTION * 70.0;
+        let rest = 1.0 - 2.0 * (FOOT_MASS_FRACTION + SHANK_MASS_FRACTION + THIGH_MASS_FRACTION);
+        assert!((rest - 0.678).abs() < 1e-12);
+        let expected = DVec3::new(0.0, 2.0 * leg_cm + rest * 125.0 - 90.0, 0.0);
+        assert!((com[0] - expected).length() < 1e-9, "{} against {expected}", com[0]);
+    }
 }
