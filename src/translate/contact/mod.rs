@@ -88,10 +88,6 @@ pub struct ContactResult {
     pub warnings: Vec<String>,
 }
 
-/// A fast run is in the air up to about two thirds of the time; more than
-/// this fraction of the frames in flight is not a body on its feet.
-const SUSPICIOUS_FLIGHT_FRACTION: (usize, usize) = (3, 4);
-
 fn horizontal(v: DVec3) -> DVec3 {
     DVec3::new(v.x, 0.0, v.z)
 }
@@ -130,7 +126,7 @@ pub fn contact_translation(
     };
     let shapes = foot_shapes(poses, parents, feet, hips);
     let has_toes = shapes.left.has_toes() || shapes.right.has_toes();
-    let (sole_depth_cm, choices) = choose_sole_depth(&shapes, &grid, &motion, params)?;
+    let (sole_depth_cm, choices) = choose_sole_depth(&shapes, has_toes, &grid, &motion, params)?;
 
     // Back to every frame, on the unsmoothed soles.
     let footing = Footing::new(shapes.as_ref().map(|shape| shape.sole(sole_depth_cm)));
@@ -153,16 +149,18 @@ pub fn contact_translation(
 /// The sole depth whose phases' best contacts cost least in all, and those
 /// contacts: the given depth, else each of [`SOLE_DEPTHS_CM`]. Ties keep the
 /// shallower sole: where depth makes no difference (no foot rolls), the
-/// joints themselves are the plainest answer. Feet without toes have no sole
-/// below their joints to place, so one depth is tried.
+/// joints themselves are the plainest answer. Feet without toes
+/// (`has_toes` false) have no sole below their joints to place, so one depth
+/// is tried.
 fn choose_sole_depth(
     shapes: &PerFoot<FootShape>,
+    has_toes: bool,
     grid: &Grid,
     motion: &Motion,
     params: &ContactParams,
 ) -> Result<(f64, Vec<PhaseChoice>), String> {
     let depths = params.sole_depth_cm.map_or(SOLE_DEPTHS_CM.to_vec(), |depth| vec![depth]);
-    let tried = if shapes.left.has_toes() || shapes.right.has_toes() { depths.len() } else { 1 };
+    let tried = if has_toes { depths.len() } else { 1 };
     let mut best: Option<(f64, f64, Vec<PhaseChoice>)> = None;
     for sole_depth_cm in depths.into_iter().take(tried) {
         let soles = shapes.as_ref().map(|shape| shape.sole(sole_depth_cm).smoothed(grid.sigma_samples));
@@ -211,12 +209,13 @@ fn shift_cm(poses: &Poses, hips: usize, path: &[DVec3], vertical: &Vertical, gro
         .collect()
 }
 
-/// A warning when too many frames are in flight for a body on its feet.
+/// A warning when too many frames are in flight for a body on its feet: a
+/// fast run is in the air up to about two thirds of the time, so more than
+/// three quarters is not a body on its feet.
 fn flight_warnings(vertical: &Vertical) -> Vec<String> {
     let n = vertical.flight.len();
     let flight_frames = vertical.flight.iter().filter(|&&x| x).count();
-    let (most, of) = SUSPICIOUS_FLIGHT_FRACTION;
-    if flight_frames * of > n * most {
+    if flight_frames * 4 > n * 3 {
         vec![format!(
             "{:.0}% of the frames are in flight; check that the feet are right and Y is up",
             100.0 * flight_frames as f64 / n as f64
