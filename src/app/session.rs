@@ -123,10 +123,7 @@ pub fn plot_data(recording: &Recording, t: &Translated, settings: &Settings) -> 
                 .collect(),
         ),
         Decisions::Contact(contact) => (
-            {
-                let [left, right] = contact.clearance_cm.clone();
-                PerFoot::new(left, right)
-            },
+            contact.clearance_cm.clone(),
             "foot clearance above the floor (cm)".to_string(),
             contact
                 .support

@@ -3,6 +3,7 @@
 //! which joints are the feet, the sole of each foot, and the centre of mass.
 //! May import `signal`; nothing above (no file formats, no methods).
 
+pub mod com;
 pub mod feet;
 pub mod kinematics;
 pub mod skeleton;

@@ -7,8 +7,7 @@
 //! the point to pin. Skeletons give joint centres, and a joint centre is not
 //! on the floor: the ankle is ~8 cm above it, the ball of the foot a few cm.
 //! Pinning a joint while the foot rolls around a point below it drags the
-//! body by that height times the angle rolled, every step (a walk comes out
-//! ~3% short with the ankle and toe joints pinned, ~2% with a heel added).
+//! body by that height times the angle rolled, every step.
 //!
 //! So each sole point is the material point of the sole *below* a joint, in
 //! the frame of the foot's bone: the sole around a joint is a rocker centred
@@ -21,7 +20,7 @@
 
 use glam::DVec3;
 
-use crate::body::feet::foot_points;
+use crate::body::feet::{Foot, FootJoints, PerFoot, foot_points};
 use crate::body::skeleton::Poses;
 use crate::signal::smoothing::smooth_paths;
 use crate::signal::stats::upper_median;
@@ -45,9 +44,8 @@ const MIN_BONE_CM: f64 = 1.0;
 
 /// How far the heel reaches behind the ankle, as a fraction of the ankle→toe
 /// distance on the floor. In an adult foot the back of the heel is ~6 cm
-/// behind the ankle's centre and the ball ~14 cm in front; the result hardly
-/// depends on it (2–10 cm behind give the same paths), what matters is that
-/// the heel is at the sole's level.
+/// behind the ankle's centre and the ball ~14 cm in front; what matters is
+/// that the heel is at the sole's level, not exactly how far back it is.
 const HEEL_BEHIND_ANKLE: f64 = 0.4;
 
 /// The points of one foot that can touch the floor, relative to the hips.
@@ -57,7 +55,7 @@ pub struct Sole {
     /// Frame-major, `parts.len()` points per frame: each point's position
     /// minus the hips' position (cm). The hips' own motion is the unknown a
     /// translation method solves for, so it is left out.
-    pub points_from_hips_cm: Vec<DVec3>,
+    pub hips_to_points_cm: Vec<DVec3>,
     /// Each point's height above the floor when the foot stands flat (cm):
     /// a point is on the floor when its height minus this offset is lowest.
     pub floor_offsets_cm: Vec<f64>,
@@ -71,6 +69,11 @@ impl Sole {
         self.parts.len()
     }
 
+    /// How many frames the sole has points for.
+    pub fn frame_count(&self) -> usize {
+        self.hips_to_points_cm.len().checked_div(self.parts.len()).unwrap_or(0)
+    }
+
     /// Whether the sole is more than the ankle: a foot with toes, whose
     /// sole lies below its joints at some depth.
     pub fn has_toes(&self) -> bool {
@@ -79,7 +82,7 @@ impl Sole {
 
     /// Point `k` of frame `f`, relative to the hips.
     pub fn at(&self, f: usize, k: usize) -> DVec3 {
-        self.points_from_hips_cm[f * self.parts.len() + k]
+        self.hips_to_points_cm[f * self.parts.len() + k]
     }
 
     /// The height of point `k` in frame `f` above where it would be if it
@@ -92,31 +95,42 @@ impl Sole {
     /// The sole with every point's path smoothed over `sigma_samples` (see
     /// [`smooth_paths`]).
     pub fn smoothed(self, sigma_samples: f64) -> Sole {
-        let points_from_hips_cm = smooth_paths(&self.points_from_hips_cm, self.parts.len(), sigma_samples);
-        Sole { points_from_hips_cm, ..self }
+        let hips_to_points_cm = smooth_paths(&self.hips_to_points_cm, self.parts.len(), sigma_samples);
+        Sole { hips_to_points_cm, ..self }
     }
 
     /// The sole in the given frames only, in their order.
     pub fn at_frames(&self, frames: &[usize]) -> Sole {
         let count = self.parts.len();
-        let points_from_hips_cm = frames
+        let hips_to_points_cm = frames
             .iter()
-            .flat_map(|&f| self.points_from_hips_cm[f * count..(f + 1) * count].iter().copied())
+            .flat_map(|&f| self.hips_to_points_cm[f * count..(f + 1) * count].iter().copied())
             .collect();
         Sole {
             parts: self.parts.clone(),
-            points_from_hips_cm,
+            hips_to_points_cm,
             floor_offsets_cm: self.floor_offsets_cm.clone(),
             tip: self.tip,
         }
     }
 
-    /// The point of frame `f` lowest above its flat-foot level, and that height.
-    pub fn lowest(&self, f: usize) -> (usize, f64) {
+    /// The point of frame `f` lowest above its flat-foot level (the first
+    /// of equally low ones), and that height.
+    pub fn lowest(&self, f: usize) -> LowestPoint {
+        let start = LowestPoint { point: 0, height_above_flat_cm: f64::INFINITY };
         (0..self.point_count())
-            .map(|k| (k, self.height_above_flat_cm(f, k)))
-            .fold((0, f64::INFINITY), |best, c| if c.1 < best.1 { c } else { best })
+            .map(|k| LowestPoint { point: k, height_above_flat_cm: self.height_above_flat_cm(f, k) })
+            .fold(start, |best, c| if c.height_above_flat_cm < best.height_above_flat_cm { c } else { best })
     }
+}
+
+/// A sole's point nearest the floor in one frame (see [`Sole::lowest`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LowestPoint {
+    /// The point's index in [`Sole::parts`].
+    pub point: usize,
+    /// Its height above its flat-foot level, relative to the hips (cm).
+    pub height_above_flat_cm: f64,
 }
 
 /// Per point, its median height above the lowest point of the same foot over
@@ -136,49 +150,52 @@ fn floor_offsets(points: &[DVec3], count: usize, frames: &[usize]) -> Vec<f64> {
         .collect()
 }
 
-/// The two soles `[left, right]` of a recording, with Y up, `sole_depth_cm`
-/// below the foot's lowest joint when the foot stands flat (see the module
+/// The two soles of a recording, with Y up, `sole_depth_cm` below the
+/// foot's lowest joint when the foot stands flat (see the module
 /// documentation). To build soles at several depths, measure the feet once
 /// with [`foot_shapes`].
 pub fn soles(
     poses: &Poses,
     parents: &[Option<usize>],
-    feet: [usize; 2],
+    feet: FootJoints,
     hips: usize,
     sole_depth_cm: f64,
-) -> [Sole; 2] {
+) -> PerFoot<Sole> {
     foot_shapes(poses, parents, feet, hips).map(|shape| shape.sole(sole_depth_cm))
 }
 
-/// The two feet `[left, right]` of a recording, measured: `feet` are the foot
-/// (ankle) joints, their descendants in `parents` are the toes.
+/// The two feet of a recording, measured: `feet` are the foot (ankle)
+/// joints, their descendants in `parents` are the toes.
 pub fn foot_shapes(
     poses: &Poses,
     parents: &[Option<usize>],
-    feet: [usize; 2],
+    feet: FootJoints,
     hips: usize,
-) -> [FootShape; 2] {
+) -> PerFoot<FootShape> {
     let n = poses.frame_count();
-    let joints = feet.map(|foot| foot_points(parents, foot));
-    let from_hips = |f: usize, j: usize| poses.at(f, j) - poses.at(f, hips);
-    let joint_points: [Vec<DVec3>; 2] =
-        [0, 1].map(|side| (0..n).flat_map(|f| joints[side].iter().map(move |&j| from_hips(f, j))).collect());
+    let mut joints = feet.map(|foot_joint| foot_points(parents, foot_joint));
+    let mut joint_points = PerFoot::from_fn(|foot| {
+        let hips_to_joint = |f: usize, j: usize| poses.at(f, j) - poses.at(f, hips);
+        (0..n).flat_map(|f| joints[foot].iter().map(move |&j| hips_to_joint(f, j))).collect::<Vec<DVec3>>()
+    });
     // A foot stands flat, mostly, in the frames where it is the lower foot.
-    let lowest = |side: usize, f: usize| {
-        joint_points[side][f * joints[side].len()..(f + 1) * joints[side].len()]
-            .iter()
-            .map(|p| p.y)
-            .fold(f64::INFINITY, f64::min)
-    };
-    let standing: [Vec<usize>; 2] =
-        [0, 1].map(|side| (0..n).filter(|&f| lowest(side, f) <= lowest(1 - side, f)).collect());
-    let [left, right] = joint_points;
-    let [left_standing, right_standing] = standing;
-    let [left_joints, right_joints] = joints;
-    [
-        FootShape::new(left_joints, parents, left, left_standing, n),
-        FootShape::new(right_joints, parents, right, right_standing, n),
-    ]
+    let lowest_cm = PerFoot::from_fn(|foot| {
+        let count = joints[foot].len();
+        (0..n)
+            .map(|f| {
+                joint_points[foot][f * count..(f + 1) * count]
+                    .iter()
+                    .map(|p| p.y)
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .collect::<Vec<f64>>()
+    });
+    PerFoot::from_fn(|foot: Foot| {
+        let standing = (0..n).filter(|&f| lowest_cm[foot][f] <= lowest_cm[foot.other()][f]).collect();
+        let (joints, joint_points) =
+            (std::mem::take(&mut joints[foot]), std::mem::take(&mut joint_points[foot]));
+        FootShape::new(joints, parents, joint_points, standing, n)
+    })
 }
 
 /// One foot, measured once: its joints' paths relative to the hips, how each
@@ -207,7 +224,7 @@ struct Rocker {
     under: Vec<usize>,
     /// Frame-major, one per bone: forward along the bone's sole, and down,
     /// perpendicular to it.
-    axes: Vec<(DVec3, DVec3)>,
+    axes: Vec<SoleAxes>,
     bone_count: usize,
     heel_behind_cm: f64,
     /// The sole point under the toe farthest from the ankle.
@@ -216,6 +233,124 @@ struct Rocker {
 
 /// A bone `from → to` of the foot, as indices into [`FootShape::joints`].
 type Bone = (usize, usize);
+
+/// One foot's joint paths relative to the hips: frame-major, `count` joints
+/// per frame (in [`FootShape::joints`] order), `n` frames.
+struct JointPaths<'a> {
+    points: &'a [DVec3],
+    count: usize,
+    n: usize,
+}
+
+impl JointPaths<'_> {
+    /// Joint `k` in frame `f`.
+    fn at(&self, f: usize, k: usize) -> DVec3 {
+        self.points[f * self.count + k]
+    }
+
+    /// The median distance between joints `k` and `from` over the frames
+    /// `standing` (cm).
+    fn length_cm(&self, k: usize, from: usize, standing: &[usize]) -> f64 {
+        upper_median(
+            &standing.iter().map(|&f| (self.at(f, k) - self.at(f, from)).length()).collect::<Vec<_>>(),
+        )
+    }
+}
+
+/// Forward along a bone's sole, and down, perpendicular to it (unit
+/// vectors).
+#[derive(Clone, Copy, Debug)]
+struct SoleAxes {
+    forward: DVec3,
+    down: DVec3,
+}
+
+/// A bone's dip toward its end (radians, positive down). Trigonometry
+/// through `libm`, so the CLI and the wasm app compute bit-identical results.
+fn dip(v: DVec3) -> f64 {
+    libm::asin((-v.y / v.length()).clamp(-1.0, 1.0))
+}
+
+impl Rocker {
+    /// The rocker of a foot whose long axis runs from the ankle to `toe`,
+    /// `toe_cm` away, with `toes` (and their `parent`s) below the ankle.
+    fn new(
+        paths: &JointPaths,
+        standing: &[usize],
+        toes: &[usize],
+        parent: &[Option<usize>],
+        toe: usize,
+        toe_cm: f64,
+    ) -> Rocker {
+        // The bone whose sole lies under joint `k`: the bone starting at `k`
+        // when there is one (a ball-of-foot joint with its toes), else the
+        // bone ending at `k` (a toe end site, or a toe joint whose end site
+        // has no length); the long axis where neither is.
+        let bone_under = |k: usize| -> Bone {
+            let starting = toes.iter().find(|&&c| parent[c] == Some(k)).map(|&c| (k, c));
+            starting
+                .or_else(|| parent[k].filter(|_| toes.contains(&k)).map(|from| (from, k)))
+                .unwrap_or((0, toe))
+        };
+        let mut bones: Vec<Bone> = vec![(0, toe)];
+        let under: Vec<usize> = toes
+            .iter()
+            .map(|&k| {
+                let bone = bone_under(k);
+                bones.iter().position(|&b| b == bone).unwrap_or_else(|| {
+                    bones.push(bone);
+                    bones.len() - 1
+                })
+            })
+            .collect();
+        // Each bone dips toward its end in a flat foot; its median dip while
+        // standing tells where "flat" is for this skeleton.
+        let flat_dips: Vec<f64> = bones
+            .iter()
+            .map(|&(a, b)| {
+                upper_median(
+                    &standing.iter().map(|&f| dip(paths.at(f, b) - paths.at(f, a))).collect::<Vec<_>>(),
+                )
+            })
+            .collect();
+        Rocker {
+            under,
+            axes: sole_axes(paths, &bones, &flat_dips),
+            bone_count: bones.len(),
+            heel_behind_cm: HEEL_BEHIND_ANKLE * toe_cm * libm::cos(flat_dips[0]),
+            tip: 2 + toes.iter().position(|&k| k == toe).unwrap_or(0),
+        }
+    }
+}
+
+/// Frame-major, per frame and bone, the axes of the bone's sole: the bone's
+/// heading on the floor, tilted by how far it dips beyond its `flat_dips`.
+fn sole_axes(paths: &JointPaths, bones: &[Bone], flat_dips: &[f64]) -> Vec<SoleAxes> {
+    let mut headings = vec![DVec3::Z; bones.len()];
+    let mut now = vec![SoleAxes { forward: DVec3::Z, down: -DVec3::Y }; bones.len()];
+    let mut axes = Vec::with_capacity(paths.n * bones.len());
+    for f in 0..paths.n {
+        for (i, &(a, b)) in bones.iter().enumerate() {
+            let v = paths.at(f, b) - paths.at(f, a);
+            // A bone with no length in this frame (a mis-tracked frame) has
+            // no direction: its sole keeps the last frame's axes.
+            if v.length() <= 1e-9 {
+                continue;
+            }
+            let flat = v.with_y(0.0);
+            if flat.length() > 1e-6 * v.length() {
+                headings[i] = flat.normalize();
+            }
+            let tilt = dip(v) - flat_dips[i];
+            now[i] = SoleAxes {
+                forward: headings[i] * libm::cos(tilt) - DVec3::Y * libm::sin(tilt),
+                down: -headings[i] * libm::sin(tilt) - DVec3::Y * libm::cos(tilt),
+            };
+        }
+        axes.extend_from_slice(&now);
+    }
+    axes
+}
 
 impl FootShape {
     fn new(
@@ -226,83 +361,29 @@ impl FootShape {
         n: usize,
     ) -> Self {
         let count = joints.len();
-        let p = |f: usize, k: usize| joint_points[f * count + k];
+        let paths = JointPaths { points: &joint_points, count, n };
         let parent: Vec<Option<usize>> = joints
             .iter()
             .map(|&j| parents.get(j).copied().flatten().and_then(|p| joints.iter().position(|&x| x == p)))
             .collect();
-        let length = |k: usize, from: usize| {
-            upper_median(&standing.iter().map(|&f| (p(f, k) - p(f, from)).length()).collect::<Vec<_>>())
-        };
-        let toes: Vec<usize> =
-            (1..count).filter(|&k| parent[k].is_some_and(|from| length(k, from) >= MIN_BONE_CM)).collect();
+        let toes: Vec<usize> = (1..count)
+            .filter(|&k| parent[k].is_some_and(|from| paths.length_cm(k, from, &standing) >= MIN_BONE_CM))
+            .collect();
         let offsets_cm = floor_offsets(&joint_points, count, &standing);
-        // The bone whose sole lies under joint `k`: the bone starting at `k`
-        // when there is one (a ball-of-foot joint with its toes), else the
-        // bone ending at `k` (a toe end site, or a toe joint whose end site
-        // has no length).
-        let bone_under = |k: usize| -> Option<Bone> {
-            let starting = toes.iter().find(|&&c| parent[c] == Some(k)).map(|&c| (k, c));
-            starting.or_else(|| parent[k].filter(|_| toes.contains(&k)).map(|from| (from, k)))
-        };
         // The foot's long axis: from the ankle to the toe joint farthest from it.
-        let far: Vec<(usize, f64)> = toes.iter().map(|&k| (k, length(k, 0))).collect();
-        let rocker = far.iter().copied().max_by(|a, b| a.1.total_cmp(&b.1)).map(|(toe, toe_cm)| {
-            let mut bones: Vec<Bone> = vec![(0, toe)];
-            let under: Vec<usize> = toes
-                .iter()
-                .map(|&k| {
-                    let bone = bone_under(k).unwrap_or((0, toe));
-                    bones.iter().position(|&b| b == bone).unwrap_or_else(|| {
-                        bones.push(bone);
-                        bones.len() - 1
-                    })
-                })
-                .collect();
-            // Each bone dips toward its end in a flat foot; its median dip
-            // while standing tells where "flat" is for this skeleton.
-            // Trigonometry through `libm`, so the CLI and the wasm app compute
-            // bit-identical results.
-            let dip = |v: DVec3| libm::asin((-v.y / v.length()).clamp(-1.0, 1.0));
-            let flat_dips: Vec<f64> = bones
-                .iter()
-                .map(|&(a, b)| {
-                    upper_median(&standing.iter().map(|&f| dip(p(f, b) - p(f, a))).collect::<Vec<_>>())
-                })
-                .collect();
-            let mut headings = vec![DVec3::Z; bones.len()];
-            let mut now = vec![(DVec3::Z, -DVec3::Y); bones.len()];
-            let mut axes = Vec::with_capacity(n * bones.len());
-            for f in 0..n {
-                for (i, &(a, b)) in bones.iter().enumerate() {
-                    let v = p(f, b) - p(f, a);
-                    // A bone with no length in this frame (a mis-tracked
-                    // frame) has no direction: its sole keeps the last
-                    // frame's axes.
-                    if v.length() <= 1e-9 {
-                        continue;
-                    }
-                    let flat = v.with_y(0.0);
-                    if flat.length() > 1e-6 * v.length() {
-                        headings[i] = flat.normalize();
-                    }
-                    let tilt = dip(v) - flat_dips[i];
-                    now[i] = (
-                        headings[i] * libm::cos(tilt) - DVec3::Y * libm::sin(tilt),
-                        -headings[i] * libm::sin(tilt) - DVec3::Y * libm::cos(tilt),
-                    );
-                }
-                axes.extend_from_slice(&now);
-            }
-            Rocker {
-                under,
-                axes,
-                bone_count: bones.len(),
-                heel_behind_cm: HEEL_BEHIND_ANKLE * toe_cm * libm::cos(flat_dips[0]),
-                tip: 2 + toes.iter().position(|&k| k == toe).unwrap_or(0),
-            }
-        });
+        let far: Vec<(usize, f64)> = toes.iter().map(|&k| (k, paths.length_cm(k, 0, &standing))).collect();
+        let rocker = far
+            .iter()
+            .copied()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(toe, toe_cm)| Rocker::new(&paths, &standing, &toes, &parent, toe, toe_cm));
         FootShape { joints, joint_points, standing, offsets_cm, toes, rocker }
+    }
+
+    /// Whether the foot has toes, so that its sole lies below its joints at
+    /// some depth (see [`Sole::has_toes`]).
+    pub fn has_toes(&self) -> bool {
+        self.rocker.is_some()
     }
 
     /// The foot's sole, `sole_depth_cm` below its lowest joint when flat.
@@ -314,7 +395,7 @@ impl FootShape {
             // A foot without toes: its ankle is all there is to pin.
             return Sole {
                 parts: vec![SolePart::Joint(self.joints[0])],
-                points_from_hips_cm: (0..n).map(|f| p(f, 0)).collect(),
+                hips_to_points_cm: (0..n).map(|f| p(f, 0)).collect(),
                 floor_offsets_cm: vec![0.0],
                 tip: 0,
             };
@@ -323,16 +404,17 @@ impl FootShape {
         for f in 0..n {
             let axes = &rocker.axes[f * rocker.bone_count..(f + 1) * rocker.bone_count];
             let below = |k: usize, down: DVec3| p(f, k) + down * (self.offsets_cm[k] + sole_depth_cm);
-            let (forward, down) = axes[0];
+            let SoleAxes { forward, down } = axes[0];
             let under_ankle = below(0, down);
             sole_points.push(under_ankle - forward * rocker.heel_behind_cm);
             sole_points.push(under_ankle);
-            sole_points.extend(self.toes.iter().zip(&rocker.under).map(|(&k, &bone)| below(k, axes[bone].1)));
+            sole_points
+                .extend(self.toes.iter().zip(&rocker.under).map(|(&k, &bone)| below(k, axes[bone].down)));
         }
         let mut parts = vec![SolePart::Heel, SolePart::UnderAnkle];
         parts.extend(self.toes.iter().map(|&k| SolePart::Joint(self.joints[k])));
         let floor_offsets_cm = floor_offsets(&sole_points, parts.len(), &self.standing);
-        Sole { parts, points_from_hips_cm: sole_points, floor_offsets_cm, tip: rocker.tip }
+        Sole { parts, hips_to_points_cm: sole_points, floor_offsets_cm, tip: rocker.tip }
     }
 }
 
@@ -375,7 +457,7 @@ mod tests {
         // toes up 20°, rotating about the heel.
         let n = 100;
         let poses = standing(n, |f| if f >= 90 { 20f64.to_radians() } else { 0.0 });
-        let [left, right] = soles(&poses, &PARENTS, [1, 3], 0, 0.0);
+        let PerFoot { left, right } = soles(&poses, &PARENTS, FootJoints { left: 1, right: 3 }, 0, 0.0);
         assert_eq!(left.parts, vec![SolePart::Heel, SolePart::UnderAnkle, SolePart::Joint(2)]);
         let hips = DVec3::new(0.0, 90.0, 0.0);
         // Flat: the heel sits at the toe's level, 0.4 of the way back.
@@ -386,7 +468,7 @@ mod tests {
             assert!(left.floor_offsets_cm[k].abs() < 1e-9, "{:?}", left.floor_offsets_cm);
         }
         // Heel strike: the heel is the lowest point and it has not moved.
-        assert_eq!(left.lowest(95).0, 0);
+        assert_eq!(left.lowest(95).point, 0);
         assert!((left.at(95, 0) - left.at(0, 0)).length() < 1e-9);
         assert!(left.height_above_flat_cm(95, 2) - left.height_above_flat_cm(0, 2) > 6.0);
     }
@@ -431,7 +513,7 @@ mod tests {
         let roll = |f: usize| if f < 70 { 0.0 } else { (f - 70) as f64 * 0.01 };
         let poses = rolling_on_the_ball(4.0, roll, n);
         let under_toe = |depth: f64| {
-            let [left, _] = soles(&poses, &parents, [1, 4], 0, depth);
+            let left = soles(&poses, &parents, FootJoints { left: 1, right: 4 }, 0, depth).left;
             // The zero-length end site adds no point of its own.
             assert_eq!(left.parts, vec![SolePart::Heel, SolePart::UnderAnkle, SolePart::Joint(2)]);
             // How far the point moves over each frame of the roll, summed.
@@ -448,7 +530,7 @@ mod tests {
     fn a_foot_without_toes_pins_its_ankle() {
         let poses =
             Poses { joint_count: 3, positions_cm: vec![DVec3::new(0.0, 90.0, 0.0), DVec3::X, -DVec3::X] };
-        let [left, _] = soles(&poses, &[None, Some(0), Some(0)], [1, 2], 0, 0.0);
+        let left = soles(&poses, &[None, Some(0), Some(0)], FootJoints { left: 1, right: 2 }, 0, 0.0).left;
         assert_eq!(left.parts, vec![SolePart::Joint(1)]);
         assert_eq!(left.at(0, 0), DVec3::new(1.0, -90.0, 0.0));
     }

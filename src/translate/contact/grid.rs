@@ -1,0 +1,229 @@
+//! The sampling grid: the contacts are chosen on frames about
+//! `cost_time_s` apart, once for each way of taking them (the phases), and
+//! the phases' results are brought back to every frame and averaged, or
+//! voted on.
+//!
+//! The costs weigh evidence per unit of time, but a change of pinned point
+//! is a jump of velocity, and a jump costs once per frame it happens in,
+//! whatever the rate: on every frame at 100 Hz it would weigh three times
+//! what it does at 30 fps against everything else, and velocities from
+//! 10 ms differences carry three times the jitter. On frames about 1/30 s
+//! apart (22.5 to 45 per second) a recording at any rate is weighed nearly
+//! as a 30 fps one is. Solving every phase and averaging makes the result
+//! independent of which frames happened to be taken; between its frames, a
+//! phase's pinned point still holds still frame by frame. Each phase's
+//! sequence is the exact optimum; their average is not a sequence of its
+//! own.
+
+use glam::DVec3;
+
+use super::ContactParams;
+use super::flight::{Lifts, flights};
+use super::footing::{Candidate, Footing};
+use super::solve::{Problem, Solution};
+use crate::body::feet::PerFoot;
+use crate::body::sole::Sole;
+
+/// How many frames apart the contacts are chosen: the whole number of frames
+/// nearest `cost_time_s`, at least one (every frame at 30 fps, every third at
+/// 100 Hz, every second from 45 fps).
+pub(super) fn grid_step(fps: f64, cost_time_s: f64) -> usize {
+    ((fps * cost_time_s).round() as usize).max(1)
+}
+
+/// The recording's motion that the choice of contacts weighs besides the
+/// soles, at every frame.
+pub(super) struct Motion {
+    /// Per frame, the centre of mass relative to the hips (cm), smoothed as
+    /// the soles are.
+    pub hips_to_com_cm: Vec<DVec3>,
+    /// Per foot and frame, how far its accelerometer reads from 1 g; `None`
+    /// without a reading.
+    pub accel_off_g: PerFoot<Vec<Option<f64>>>,
+    /// The time between frames (s).
+    pub dt: f64,
+}
+
+/// One phase's choice of contacts and what it was chosen from.
+pub(super) struct PhaseChoice {
+    pub problem: Problem,
+    pub solution: Solution,
+}
+
+/// The phases' height above standing and flights, brought back to every
+/// frame.
+pub(super) struct Vertical {
+    /// Per frame, the hips' height above the floor (cm) with the lowest sole
+    /// point on it, lifted in flight.
+    pub height_cm: Vec<f64>,
+    /// Per frame, whether most phases fly.
+    pub flight: Vec<bool>,
+}
+
+/// Where frame `f` falls among a phase's frames: between its frames `a` and
+/// `b`, `t` of the way from `a`.
+struct Between {
+    a: usize,
+    b: usize,
+    t: f64,
+}
+
+pub(super) struct Grid {
+    /// How many frames apart a phase's frames are.
+    pub step: usize,
+    /// Per phase, the frames it takes: every `step`-th from the phase's
+    /// index (fewer phases when the recording is shorter than a step).
+    pub phases: Vec<Vec<usize>>,
+    /// How far (samples) tracking jitter is smoothed before the contacts are
+    /// chosen: none where every frame is taken.
+    pub sigma_samples: f64,
+}
+
+impl Grid {
+    /// The grid for `n` frames at `fps`.
+    pub fn new(n: usize, fps: f64, params: &ContactParams) -> Grid {
+        let step = grid_step(fps, params.cost_time_s);
+        let phases = (0..step.min(n)).map(|phase| (phase..n).step_by(step).collect()).collect();
+        let sigma_samples = if step > 1 { params.jitter_s * fps } else { 0.0 };
+        Grid { step, phases, sigma_samples }
+    }
+
+    /// The best contacts of every phase on `soles` (at every frame).
+    pub fn choose(&self, soles: &PerFoot<Sole>, motion: &Motion, params: &ContactParams) -> Vec<PhaseChoice> {
+        let dt = motion.dt * self.step as f64;
+        self.phases
+            .iter()
+            .map(|frames| {
+                let problem = Problem::new(
+                    Footing::new(soles.as_ref().map(|sole| sole.at_frames(frames))),
+                    frames.iter().map(|&f| motion.hips_to_com_cm[f]).collect(),
+                    motion.accel_off_g.as_ref().map(|off| frames.iter().map(|&f| off[f]).collect()),
+                    dt,
+                );
+                let solution = problem.solve(params);
+                PhaseChoice { problem, solution }
+            })
+            .collect()
+    }
+
+    /// The step of `phase` whose move holds frame `f` (the frames before a
+    /// phase's first step go with that step).
+    fn step_at(&self, phase: usize, f: usize) -> usize {
+        let last = self.phases[phase].len() - 1;
+        f.saturating_sub(phase).div_ceil(self.step).clamp(1.min(last), last)
+    }
+
+    /// Where frame `f` falls among the `len` frames of `phase`.
+    fn between(&self, phase: usize, f: usize, len: usize) -> Between {
+        let s = (f as f64 - phase as f64) / self.step as f64;
+        let (a, b) = (s.floor().max(0.0) as usize, s.ceil().max(0.0) as usize);
+        let (a, b) = (a.min(len - 1), b.min(len - 1));
+        let t = if b > a { s - a as f64 } else { 0.0 };
+        Between { a, b, t }
+    }
+
+    /// The hips' horizontal path (cm) on `footing` (every frame, `dt` s
+    /// apart), from `start`: each frame's velocity the mean of the phases'.
+    /// Pinned points hold still frame by frame; a coasting body keeps the
+    /// velocity of its phase's step.
+    pub fn hips_path(&self, footing: &Footing, choices: &[PhaseChoice], start: DVec3, dt: f64) -> Vec<DVec3> {
+        let n = footing.frame_count();
+        let mut path = vec![start; n];
+        for f in 1..n {
+            let velocity = (0..choices.len())
+                .map(|phase| {
+                    let solution = &choices[phase].solution;
+                    let g = self.step_at(phase, f);
+                    let candidate = solution.chosen[g];
+                    footing.hips_velocity(candidate, f, dt).unwrap_or_else(|| solution.hips_velocity[g])
+                })
+                .sum::<DVec3>()
+                / choices.len() as f64;
+            path[f] = path[f - 1] + velocity * dt;
+        }
+        path
+    }
+
+    /// The hips' height above standing `standing_cm` (every frame) and the
+    /// flights: a flight where most phases fly, and only there (a foot that
+    /// the method says is on the floor is on it), lifted by the phases'
+    /// mean lift, each linear between its frames.
+    pub fn vertical(&self, standing_cm: &[f64], choices: &[PhaseChoice], params: &ContactParams) -> Vertical {
+        let lifts: Vec<Lifts> = choices.iter().map(|c| flights(&c.problem, &c.solution, params)).collect();
+        let mut height_cm = standing_cm.to_vec();
+        let mut flight = vec![false; standing_cm.len()];
+        for f in 0..standing_cm.len() {
+            let mut lift = 0.0;
+            let mut flying = 0;
+            for (phase, lifted) in lifts.iter().enumerate() {
+                let Between { a, b, t } = self.between(phase, f, lifted.lift_cm.len());
+                lift += lifted.lift_cm[a] * (1.0 - t) + lifted.lift_cm[b] * t;
+                flying += usize::from(lifted.flight[if t < 0.5 { a } else { b }]);
+            }
+            flight[f] = 2 * flying > lifts.len();
+            if flight[f] {
+                height_cm[f] += lift / lifts.len() as f64;
+            }
+        }
+        Vertical { height_cm, flight }
+    }
+
+    /// Per frame of `n`, the candidate most phases chose (ties go to the
+    /// earliest phase's).
+    pub fn decisions(&self, choices: &[PhaseChoice], n: usize) -> Vec<Candidate> {
+        (0..n)
+            .map(|f| {
+                let votes: Vec<Candidate> = (0..choices.len())
+                    .map(|phase| choices[phase].solution.chosen[self.step_at(phase, f)])
+                    .collect();
+                most_common(&votes)
+            })
+            .collect()
+    }
+}
+
+/// The candidate that most of `votes` name; of equally many, the first named.
+fn most_common(votes: &[Candidate]) -> Candidate {
+    // Votes name few distinct candidates: count each once.
+    let mut counts: Vec<(Candidate, usize)> = Vec::new();
+    for &vote in votes {
+        match counts.iter_mut().find(|(c, _)| *c == vote) {
+            Some((_, count)) => *count += 1,
+            None => counts.push((vote, 1)),
+        }
+    }
+    let mut best = counts.first().copied().unwrap_or((Candidate::Coast, 0));
+    for &(candidate, count) in &counts {
+        if count > best.1 {
+            best = (candidate, count);
+        }
+    }
+    best.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::feet::Foot;
+
+    #[test]
+    fn the_grid_takes_frames_about_a_thirtieth_of_a_second_apart() {
+        let cost_time_s = ContactParams::default().cost_time_s;
+        for (fps, step) in
+            [(24.0, 1), (30.0, 1), (44.0, 1), (45.0, 2), (60.0, 2), (100.0, 3), (10_000.0, 333)]
+        {
+            assert_eq!(grid_step(fps, cost_time_s), step, "{fps} fps");
+        }
+        // Fewer phases than the step when the recording is shorter.
+        let grid = Grid::new(2, 100.0, &ContactParams::default());
+        assert_eq!(grid.phases, vec![vec![0], vec![1]]);
+    }
+
+    #[test]
+    fn the_vote_goes_to_the_most_named_and_ties_to_the_first() {
+        let left = Candidate::Point { foot: Foot::Left, point: 0 };
+        assert_eq!(most_common(&[left, Candidate::Double, Candidate::Double]), Candidate::Double);
+        assert_eq!(most_common(&[left, Candidate::Double]), left);
+        assert_eq!(most_common(&[]), Candidate::Coast);
+    }
+}

@@ -1,0 +1,308 @@
+//! The choice of contacts on one grid of frames: the one sequence of
+//! candidates over the whole recording along which the centre of mass's
+//! changes of velocity are best explained by the floor's push, found exactly
+//! by dynamic programming (Viterbi).
+//!
+//! Why the whole recording and not frame by frame: when one foot lands as
+//! the other pushes off, both are low and one of them moves. A choice made
+//! from the past alone follows whichever foot agrees with the velocity so
+//! far, and after one late switch that velocity is already wrong, so the
+//! next switch is late too. The frames after the switch tell which foot the
+//! body went on with.
+//!
+//! Why the centre of mass: Newton's law holds for it, not for the hips
+//! joint, which swings around it (in a walk the hips' speed varies by half
+//! within each step, fastest just when the feet change over).
+//!
+//! Costs, in units of one `slip_cm_per_s` of velocity change, summed over
+//! frames; evidence that lasts is weighed per `cost_time_s` of time, so a
+//! second of evidence weighs the same at any frame rate (see
+//! [`ContactParams`]):
+//! - a velocity change `Δv` that the floor's push does not explain (the
+//!   centre of pressure placed where on its segment it fits best, see
+//!   [`super::pressure`]) costs `(Δv / slip_cm_per_s)²`, times
+//!   `cost_time_s / dt`;
+//! - a sole point `c` cm above the floor costs `(c / touch_cm)²` per
+//!   `cost_time_s`, and above `lift_cm` it cannot be pinned;
+//! - with accelerometers, a pinned foot reading `a` g costs
+//!   `((a − 1) / accel_slip_g)²` per `cost_time_s`;
+//! - a pinned point `d` cm from the centre of mass's floor projection costs
+//!   `(d / com_prior_cm)²` per `cost_time_s`;
+//! - coasting costs `coast_cost_per_s` per second, more where a foot's
+//!   accelerometer says it rests on the floor; the floor does not push a
+//!   coasting body, which keeps the velocity it came in with.
+//!
+//! The optimum is exact for the pinned candidates, whose velocity each frame
+//! is fixed; a coasting stretch carries the velocity it entered with along
+//! its best way in, for at most `max_coast_s`.
+
+use glam::DVec3;
+
+use super::ContactParams;
+use super::footing::{Candidate, Footing};
+use super::horizontal;
+use super::pressure::FloorPush;
+use crate::body::feet::{Foot, PerFoot};
+
+/// What one grid's choice of contacts is made from; frames are the grid's.
+pub(super) struct Problem {
+    pub footing: Footing,
+    /// Per frame, the centre of mass relative to the hips (cm).
+    pub hips_to_com_cm: Vec<DVec3>,
+    /// Per foot and frame, how far its accelerometer reads from 1 g; `None`
+    /// without a reading.
+    pub accel_off_g: PerFoot<Vec<Option<f64>>>,
+    /// The time between the grid's frames (s).
+    pub dt: f64,
+    /// Every candidate, in the order of [`Footing::candidates`]: coasting
+    /// last.
+    candidates: Vec<Candidate>,
+}
+
+/// The contacts chosen for a [`Problem`].
+pub(super) struct Solution {
+    /// Per frame, the candidate chosen for the move into it.
+    pub chosen: Vec<Candidate>,
+    /// Per frame, the hips' horizontal velocity (cm/s) the choice gives.
+    pub hips_velocity: Vec<DVec3>,
+    /// The total cost of the choice.
+    pub cost: f64,
+}
+
+/// The dynamic programming's tables after its last frame.
+struct Trellis {
+    /// Per candidate, the least cost of a sequence ending in it.
+    cost: Vec<f64>,
+    /// Frame-major, per frame and candidate, the candidate before it on that
+    /// sequence.
+    back: Vec<u32>,
+    /// Per frame, the centre of mass's velocity (cm/s) carried into it by
+    /// coasting along coasting's best way in.
+    carried: Vec<DVec3>,
+}
+
+/// Per candidate, the best sequence ending in it in one frame.
+struct Column {
+    /// Its cost.
+    cost: Vec<f64>,
+    /// The centre of mass's horizontal velocity it ends with (cm/s).
+    com_velocity: Vec<DVec3>,
+}
+
+/// The best way into one candidate in one frame.
+struct WayIn {
+    cost: f64,
+    from: usize,
+}
+
+impl Problem {
+    pub fn new(
+        footing: Footing,
+        hips_to_com_cm: Vec<DVec3>,
+        accel_off_g: PerFoot<Vec<Option<f64>>>,
+        dt: f64,
+    ) -> Problem {
+        let candidates = footing.candidates();
+        Problem { footing, hips_to_com_cm, accel_off_g, dt, candidates }
+    }
+
+    pub fn frame_count(&self) -> usize {
+        self.hips_to_com_cm.len()
+    }
+
+    /// The best sequence of candidates (see the module documentation).
+    pub fn solve(&self, params: &ContactParams) -> Solution {
+        let trellis = self.forward(params);
+        self.backtrack(&trellis)
+    }
+
+    /// The hips' horizontal velocity from frame `f - 1` to `f` (cm/s) if
+    /// `candidate` holds; zero in frame 0 and for `Coast`, whose velocity is
+    /// carried.
+    fn hips_velocity(&self, candidate: Candidate, f: usize) -> DVec3 {
+        if f == 0 {
+            return DVec3::ZERO;
+        }
+        self.footing.hips_velocity(candidate, f, self.dt).unwrap_or(DVec3::ZERO)
+    }
+
+    /// The centre of mass's horizontal velocity relative to the hips, from
+    /// frame `f - 1` to `f` (cm/s).
+    pub fn hips_to_com_velocity(&self, f: usize) -> DVec3 {
+        if f == 0 {
+            return DVec3::ZERO;
+        }
+        horizontal(self.hips_to_com_cm[f] - self.hips_to_com_cm[f - 1]) / self.dt
+    }
+
+    /// What pinning `point` of `foot` for the move into frame `f` costs by
+    /// itself: its height, its accelerometer's reading and its distance from
+    /// the weight, held for one frame; infinite when it is too high to pin.
+    fn point_cost(&self, foot: Foot, point: usize, f: usize, params: &ContactParams) -> f64 {
+        let before = self.footing.clearance_cm(foot, point, f.saturating_sub(1));
+        let after = self.footing.clearance_cm(foot, point, f);
+        if before.max(after) > params.lift_cm {
+            return f64::INFINITY;
+        }
+        let c = 0.5 * (before + after).max(0.0) / params.touch_cm;
+        let shake = self.accel_off_g[foot][f].unwrap_or(0.0) / params.accel_slip_g;
+        // The weight: a foot bears it at its centre of pressure, near the
+        // centre of mass's floor projection (behind the heel at heel
+        // strike, ahead of the toes at push-off, over the ball in a turn
+        // on it).
+        let weight = horizontal(self.footing.soles[foot].at(f, point) - self.hips_to_com_cm[f]).length()
+            / params.com_prior_cm;
+        (c * c + shake * shake + weight * weight) * (self.dt / params.cost_time_s)
+    }
+
+    /// What `candidate` for the move into frame `f` costs by itself.
+    fn own_cost(&self, candidate: Candidate, f: usize, params: &ContactParams) -> f64 {
+        match candidate {
+            Candidate::Point { foot, point } => self.point_cost(foot, point, f, params),
+            Candidate::Double => {
+                let pins = self.footing.lowest.double_support(f.saturating_sub(1));
+                self.point_cost(Foot::Left, pins.left, f, params)
+                    + self.point_cost(Foot::Right, pins.right, f, params)
+            }
+            Candidate::Coast => {
+                // With accelerometers: a foot reading 1 g rests on the
+                // floor, so the body is not coasting; a foot
+                // `accel_slip_g` off says nothing.
+                let resting = Foot::BOTH
+                    .into_iter()
+                    .map(|foot| {
+                        self.accel_off_g[foot][f]
+                            .map_or(0.0, |off| (1.0 - off / params.accel_slip_g).max(0.0))
+                    })
+                    .fold(0.0, f64::max);
+                params.coast_cost_per_s * self.dt
+                    + (resting / params.accel_slip_g).powi(2) * (self.dt / params.cost_time_s)
+            }
+        }
+    }
+
+    /// The forward pass: frame by frame, per candidate, the best sequence
+    /// ending in it.
+    fn forward(&self, params: &ContactParams) -> Trellis {
+        let candidates = &self.candidates;
+        let n = self.frame_count();
+        let m = candidates.len();
+        let coast = m - 1;
+        let mut column = Column {
+            cost: candidates.iter().map(|&c| self.own_cost(c, 0, params)).collect(),
+            com_velocity: vec![DVec3::ZERO; m],
+        };
+        let mut next = Column { cost: vec![0.0; m], com_velocity: vec![DVec3::ZERO; m] };
+        let mut back = vec![0u32; n * m];
+        let mut carried = vec![DVec3::ZERO; n];
+        // How many frames coasting's best way in has been coasting.
+        let mut coast_frames = 0usize;
+        let max_coast_frames = (params.max_coast_s / self.dt).round().max(1.0) as usize;
+        for (f, back) in back.chunks_exact_mut(m).enumerate().skip(1) {
+            // A coasting stretch that has lasted its longest can only land.
+            let coast_is_over = coast_frames >= max_coast_frames;
+            self.advance(f, &column, &mut next, back, coast_is_over, params);
+            carried[f] = next.com_velocity[coast];
+            coast_frames = if back[coast] as usize == coast { coast_frames + 1 } else { 1 };
+            std::mem::swap(&mut column, &mut next);
+        }
+        Trellis { cost: column.cost, back, carried }
+    }
+
+    /// One frame of the forward pass: from the best sequences ending in
+    /// frame `f - 1` (`column`), those ending in frame `f` (`next`), and per
+    /// candidate the one before it (`back`). A candidate that cannot hold in
+    /// frame `f` costs infinitely and keeps its stale velocity.
+    fn advance(
+        &self,
+        f: usize,
+        column: &Column,
+        next: &mut Column,
+        back: &mut [u32],
+        coast_is_over: bool,
+        params: &ContactParams,
+    ) {
+        let candidates = &self.candidates;
+        let coast = candidates.len() - 1;
+        // A velocity change within one frame, in units of `cost_time_s`.
+        let per_change = params.cost_time_s / self.dt;
+        let hips_to_com_velocity = self.hips_to_com_velocity(f);
+        // The floor's push between the velocity of frames f - 2 → f - 1 and
+        // that of f - 1 → f, at frame f - 1.
+        let pushed = f - 1;
+        let standing_cm = self.footing.lowest.standing_cm[pushed];
+        let push =
+            FloorPush::new(self.hips_to_com_cm[pushed], standing_cm, self.dt, params.min_com_height_cm);
+        for (i, &candidate) in candidates.iter().enumerate() {
+            let own = self.own_cost(candidate, f, params);
+            if !own.is_finite() {
+                next.cost[i] = f64::INFINITY;
+                continue;
+            }
+            let now = self.footing.hips_velocity(candidate, f, self.dt).map(|v| v + hips_to_com_velocity);
+            let range = push.range_from(self.footing.pressure_segment(candidate, pushed));
+            let barred = (i == coast && coast_is_over).then_some(coast);
+            // Coasting keeps the velocity it comes in with; frame 0 has no
+            // velocity to compare with.
+            let unexplained = |j: usize| match now {
+                Some(v) if f > 1 => {
+                    range.unexplained(horizontal(v - column.com_velocity[j])).length() / params.slip_cm_per_s
+                }
+                _ => 0.0,
+            };
+            let way_in = best_way_in(&column.cost, barred, coast, |j| {
+                let u = unexplained(j);
+                u * u * per_change
+            });
+            next.cost[i] = way_in.cost + own;
+            next.com_velocity[i] =
+                now.unwrap_or(if f > 1 { column.com_velocity[way_in.from] } else { DVec3::ZERO });
+            back[i] = way_in.from as u32;
+        }
+    }
+
+    /// The best sequence, read back from the trellis's cheapest end.
+    fn backtrack(&self, trellis: &Trellis) -> Solution {
+        let candidates = &self.candidates;
+        let n = self.frame_count();
+        let m = candidates.len();
+        let cost = &trellis.cost;
+        let mut i = (0..m).min_by(|&a, &b| cost[a].total_cmp(&cost[b])).unwrap_or(m - 1);
+        let total_cost = cost[i];
+        let mut chosen = vec![candidates[i]; n];
+        for f in (1..n).rev() {
+            chosen[f] = candidates[i];
+            i = trellis.back[f * m + i] as usize;
+        }
+        chosen[0] = chosen.get(1).copied().unwrap_or(candidates[i]);
+        let hips_velocity = (0..n)
+            .map(|f| match chosen[f] {
+                Candidate::Coast => trellis.carried[f] - self.hips_to_com_velocity(f),
+                c => self.hips_velocity(c, f),
+            })
+            .collect();
+        Solution { chosen, hips_velocity, cost: total_cost }
+    }
+}
+
+/// Of the sequences ending in each candidate `j` with `cost[j]`, the one
+/// whose move on costs least (`cost[j] + change_cost(j)`), skipping the
+/// impossible ones and `barred`; `fallback` when none is possible.
+fn best_way_in(
+    cost: &[f64],
+    barred: Option<usize>,
+    fallback: usize,
+    change_cost: impl Fn(usize) -> f64,
+) -> WayIn {
+    let mut best = WayIn { cost: f64::INFINITY, from: fallback };
+    for (j, &before) in cost.iter().enumerate() {
+        if !before.is_finite() || barred == Some(j) {
+            continue;
+        }
+        let total = before + change_cost(j);
+        if total < best.cost {
+            best = WayIn { cost: total, from: j };
+        }
+    }
+    best
+}
