@@ -5,6 +5,7 @@
 #   ./build.sh test    every test: format, lints, native, wasm, browser
 #   ./build.sh bench   the speed figures (native core, then in the browser)
 #   ./build.sh demo    the command-line tool on the built-in demo recording
+#   ./build.sh golden [COMMIT]  output byte for byte as at COMMIT (tests/golden.sh)
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -107,8 +108,9 @@ case "${1:-serve}" in
     test) cmd_test ;;
     bench) cmd_bench ;;
     demo) cmd_demo ;;
+    golden) exec tests/golden.sh "${@:2}" ;;
     *)
-        echo "usage: ./build.sh [serve|build|test|bench|demo]" >&2
+        echo "usage: ./build.sh [serve|build|test|bench|demo|golden [COMMIT]]" >&2
         exit 2
         ;;
 esac

@@ -4,7 +4,8 @@
 
 use std::ops::{Index, IndexMut};
 
-/// Left or right: the one way the crate names a side of the body.
+/// Left or right: the one way the crate names a side of the body (a foot,
+/// or in the demo's rig the limbs on that side).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Foot {
