@@ -149,6 +149,85 @@ pub fn evaluate_groundtruth(bvh: &Bvh, name: &str, method: &Method) -> Result<Ac
     Ok(accuracy(&estimated, &truth.poses, &truth.parents, truth.fps))
 }
 
+/// How one method did on a suit-grade file, scored against its true motion.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SuitAccuracy {
+    /// The estimate from the suit's pose (its own translation removed)
+    /// against the true hips.
+    pub accuracy: Accuracy,
+    /// The floor no method can go below without the true leg length: the
+    /// true hips path scaled about its start by the suit's leg length over
+    /// the true one (strides scale with the legs), scored like an estimate.
+    pub leg_oracle_mean_error_pct: f64,
+    /// Suit leg length / true leg length.
+    pub leg_length_ratio: f64,
+}
+
+/// The legs' length (cm): per foot, the bones from the foot joint up to the
+/// joint whose parent is `hips` (thigh, shank; not the pelvis's offset to the
+/// hip joint), each the median over the frames of its length in `poses`,
+/// averaged over the two legs.
+pub fn leg_length_cm(poses: &Poses, parents: &[Option<usize>], feet: FootJoints, hips: usize) -> f64 {
+    let leg = |foot_joint: usize| {
+        let mut length_cm = 0.0;
+        let mut joint = foot_joint;
+        while let Some(parent) = parents.get(joint).copied().flatten() {
+            if parent == hips || joint == hips {
+                break;
+            }
+            let bone: Vec<f64> = (0..poses.frame_count())
+                .map(|f| (poses.at(f, joint) - poses.at(f, parent)).length())
+                .collect();
+            length_cm += crate::signal::stats::median(&bone);
+            joint = parent;
+        }
+        length_cm
+    };
+    0.5 * (leg(feet.left) + leg(feet.right))
+}
+
+/// Evaluates `method` on a suit-grade BVH whose true motion is `truth` (the
+/// same skeleton hierarchy and frames): freezes the suit's translation,
+/// estimates it, and compares the hips with the truth's.
+pub fn evaluate_suit(suit: &Bvh, truth: &Bvh, name: &str, method: &Method) -> Result<SuitAccuracy, Error> {
+    let truth = Recording::from_bvh(truth.clone(), name);
+    let suit_recording = Recording::from_bvh(suit.clone(), name);
+    if suit_recording.joint_names != truth.joint_names {
+        return Err(Error::whole(
+            name,
+            "the suit file and its truth have different joints; they must be one skeleton",
+        ));
+    }
+    if suit_recording.frame_count() != truth.frame_count() {
+        return Err(Error::whole(
+            name,
+            format!(
+                "has {} frames but its truth has {}; they must be the same take",
+                suit_recording.frame_count(),
+                truth.frame_count()
+            ),
+        ));
+    }
+    let feet = truth.feet(&FeetChoice::default())?;
+    let hips = truth.hips(feet);
+    let frozen = Recording::from_bvh(freeze_translation(suit, hips), name);
+    let estimated = frozen.translate(&FeetChoice::default(), method)?;
+    let accuracy = accuracy(&estimated, &truth.poses, &truth.parents, truth.fps);
+    let leg_length_ratio = leg_length_cm(&suit_recording.poses, &suit_recording.parents, feet, hips)
+        / leg_length_cm(&truth.poses, &truth.parents, feet, hips);
+    let true_hips = truth.poses.trajectory(hips);
+    let start = true_hips.first().copied().unwrap_or(DVec3::ZERO);
+    let oracle: Vec<DVec3> = true_hips.iter().map(|&p| start + (p - start) * leg_length_ratio).collect();
+    let oracle_error_cm =
+        true_hips.iter().zip(&oracle).map(|(t, o)| (*o - *t).with_y(0.0).length()).sum::<f64>()
+            / true_hips.len().max(1) as f64;
+    Ok(SuitAccuracy {
+        accuracy,
+        leg_oracle_mean_error_pct: 100.0 * oracle_error_cm / floor_path_cm(&true_hips),
+        leg_length_ratio,
+    })
+}
+
 /// How far a kata's hips end from where they started (cm), after removing the
 /// vendor's translation and estimating it with `method`.
 pub fn kata_closure_cm(recording: &Recording, method: &Method) -> Result<f64, Error> {
