@@ -167,3 +167,40 @@ fn one_bad_file_does_not_stop_the_others() {
     assert!(text(&out.stderr).contains("1 of 2 files failed"), "{}", text(&out.stderr));
     let _ = std::fs::remove_dir_all(work);
 }
+
+/// A suit file finds its truth in `../groundtruth/` from its folder, or in
+/// `--truth DIR`; one whose truth is nowhere is an error for that file alone.
+#[test]
+fn eval_pairs_suit_files_with_their_truth() {
+    let Some(dir) = common::data_dir() else { return };
+    let suit = dir.join("suit/bandai1_walk_active_001.suit-l1-s1.bvh");
+    let out = embusen(&["eval", suit.to_str().unwrap()]);
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(stdout.starts_with("suit grade:") && !stdout.contains("ground truth:"), "{stdout}");
+    assert!(
+        stdout.contains("bandai1_walk_active_001.suit-l1-s1.bvh") && stdout.contains("level 1:"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("contact beats paper on mean error in"), "{stdout}");
+
+    // Elsewhere, the truth is not found unless named.
+    let scratch = scratch("suit-truth");
+    let copy = scratch.join("x_walk_y_001.suit-l0.5-s9.bvh");
+    std::fs::copy(&suit, &copy).unwrap();
+    let out = embusen(&["eval", copy.to_str().unwrap(), suit.to_str().unwrap()]);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("x_walk_y_001.suit-l0.5-s9.bvh: its truth is not found"), "{stderr}");
+    assert!(
+        text(&out.stdout).contains("bandai1_walk_active_001.suit-l1-s1.bvh "),
+        "the other file still runs"
+    );
+    let truth = dir.join("groundtruth/bandai1_walk_active_001.bvh");
+    let out = embusen(&["eval", "--pair", copy.to_str().unwrap(), truth.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("level 0.5:"), "{}", text(&out.stdout));
+    std::fs::copy(&truth, scratch.join("x_walk_y_001.bvh")).unwrap();
+    let out = embusen(&["eval", copy.to_str().unwrap(), "--truth", scratch.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+}

@@ -173,3 +173,52 @@ fn a_denser_recording_meets_the_same_figures() {
         assert!(ratio.contains(&contact.path_ratio), "{name}: {contact:?}");
     }
 }
+
+/// Suit-grade files scored against their own truth: the figures are numbers
+/// and the leg-length oracle, which only rescales the true path, stays close
+/// to it. The method's figures are not held to a target here: the suit-grade
+/// acceptance is the contact method's own work in progress.
+#[test]
+fn suit_files_are_scored_against_their_truth() {
+    use embusen::eval::suit::{evaluate_suit_file, summarise_suit, truth_file_name};
+    let Some(dir) = common::data_dir() else { return };
+    let bvh = |relative: &str| match common::open(&dir, relative).source {
+        Source::Bvh(bvh) => bvh,
+        Source::Table(_) => panic!("{relative}: a BVH"),
+    };
+    let files: Vec<_> =
+        ["bandai1_walk_active_001.suit-l1-s1.bvh", "bandai1_run_masculinity_001.suit-l0.5-s2.bvh"]
+            .iter()
+            .map(|name| {
+                let truth = truth_file_name(name).unwrap();
+                let file = evaluate_suit_file(
+                    &bvh(&format!("suit/{name}")),
+                    &bvh(&format!("groundtruth/{truth}")),
+                    name,
+                )
+                .unwrap();
+                eprintln!("{file:?}");
+                let FileAccuracy { paper, contact, .. } = &file.file;
+                for a in [paper, contact] {
+                    let figures = [
+                        a.mean_error_pct,
+                        a.final_error_pct,
+                        a.path_ratio,
+                        a.skating_cm_per_s,
+                        a.vertical_error_cm,
+                    ];
+                    assert!(figures.iter().all(|x| x.is_finite()), "{name}: {a:?}");
+                }
+                assert!(
+                    file.leg_oracle_mean_error_pct.is_finite() && file.leg_oracle_mean_error_pct < 3.0,
+                    "{file:?}"
+                );
+                assert!((0.9..=1.1).contains(&file.leg_length_ratio), "{file:?}");
+                file
+            })
+            .collect();
+    let summary = summarise_suit(&files);
+    let levels: Vec<&str> = summary.levels.iter().map(|l| l.level.as_str()).collect();
+    assert_eq!(levels, ["1", "0.5"]);
+    assert!(summary.all.leg_oracle_mean_error_pct < 3.0, "{summary:?}");
+}

@@ -4,9 +4,12 @@
 //! A ground-truth file is evaluated by removing its translation — every
 //! position channel from the root down to the hips is frozen at its
 //! first-frame value — estimating it again, and comparing the hips with the
-//! original recording's. May import `translate`, `io`, `body`, `signal`.
+//! original recording's. A suit-grade file (the same take through an
+//! inertial-suit error model) is evaluated the same way against its truth.
+//! May import `translate`, `io`, `body`, `signal`.
 
 pub mod metrics;
+pub mod suit;
 pub mod summary;
 
 use glam::DVec3;

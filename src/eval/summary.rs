@@ -55,7 +55,7 @@ pub fn evaluate_file(bvh: &Bvh, name: &str) -> Result<FileAccuracy, Error> {
     Ok(FileAccuracy { name: name.to_string(), paper, contact })
 }
 
-fn is_moving(a: &Accuracy) -> bool {
+pub(super) fn is_moving(a: &Accuracy) -> bool {
     a.true_path_cm >= MOVING_MIN_PATH_CM
 }
 
@@ -80,7 +80,7 @@ pub fn medians(accuracies: &[&Accuracy]) -> Accuracy {
     }
 }
 
-fn group_medians(files: &[&FileAccuracy]) -> GroupMedians {
+pub(super) fn group_medians(files: &[&FileAccuracy]) -> GroupMedians {
     let paper: Vec<&Accuracy> = files.iter().map(|f| &f.paper).collect();
     let contact: Vec<&Accuracy> = files.iter().map(|f| &f.contact).collect();
     GroupMedians { file_count: files.len(), paper: medians(&paper), contact: medians(&contact) }
@@ -90,34 +90,60 @@ fn group_medians(files: &[&FileAccuracy]) -> GroupMedians {
 /// contact method beats the paper method on the moving files. Each method's
 /// file counts as moving by its own `true_path_cm` (the same truth for both).
 pub fn summarise(files: &[FileAccuracy]) -> Summary {
-    let mut types: Vec<String> = files.iter().map(|f| motion_type(&f.name)).collect();
-    types.sort();
-    types.dedup();
-    let by_motion_type = types
-        .into_iter()
-        .map(|t| {
-            let group: Vec<&FileAccuracy> = files.iter().filter(|f| motion_type(&f.name) == t).collect();
-            let medians = group_medians(&group);
-            (t, medians)
-        })
-        .collect();
-    let moving: Vec<&FileAccuracy> = files.iter().filter(|f| is_moving(&f.contact)).collect();
+    let by_motion_type =
+        by_motion_type(files, |f| f).into_iter().map(|(t, group)| (t, group_medians(&group))).collect();
+    let (moving_file_count, contact_better_count) = contact_better(files.iter());
     Summary {
         by_motion_type,
         all: group_medians(&files.iter().collect::<Vec<_>>()),
-        moving_file_count: moving.len(),
-        contact_better_count: moving
-            .iter()
-            .filter(|f| f.contact.mean_error_pct < f.paper.mean_error_pct)
-            .count(),
+        moving_file_count,
+        contact_better_count,
     }
 }
+
+/// `items` grouped by the motion type (see [`motion_type`]) of the file each
+/// holds (`file_of`), in the types' sorted order; each group in `items`' order.
+pub(super) fn by_motion_type<T>(
+    items: &[T],
+    file_of: impl Fn(&T) -> &FileAccuracy,
+) -> Vec<(String, Vec<&T>)> {
+    let mut types: Vec<String> = items.iter().map(|i| motion_type(&file_of(i).name)).collect();
+    types.sort();
+    types.dedup();
+    types
+        .into_iter()
+        .map(|t| {
+            let group = items.iter().filter(|i| motion_type(&file_of(i).name) == t).collect();
+            (t, group)
+        })
+        .collect()
+}
+
+/// Of `files`, how many are moving (by the contact method's `true_path_cm`,
+/// the same truth for both), and of those, on how many the contact method's
+/// mean error is below the paper method's.
+pub(super) fn contact_better<'a>(files: impl Iterator<Item = &'a FileAccuracy>) -> (usize, usize) {
+    let moving: Vec<&FileAccuracy> = files.filter(|f| is_moving(&f.contact)).collect();
+    let better = moving.iter().filter(|f| f.contact.mean_error_pct < f.paper.mean_error_pct).count();
+    (moving.len(), better)
+}
+
+/// How wide the ground-truth table's first column (the file name) is.
+const FILE_WIDTH: usize = 36;
 
 /// The table's title and column header, two lines without a final line end.
 pub fn format_header() -> String {
     format!(
-        "ground truth: translation frozen root→hips, re-estimated, compared with the truth\n\
-         {:<36} {:>8} | {:>17} | {:>17} | {:>13} | {:>20} | {:>13}",
+        "ground truth: translation frozen root→hips, re-estimated, compared with the truth\n{}",
+        format_columns(FILE_WIDTH)
+    )
+}
+
+/// The column header of both methods' figures, the first column (the file
+/// name) `label_width` wide; no line end.
+pub(super) fn format_columns(label_width: usize) -> String {
+    format!(
+        "{:<label_width$} {:>8} | {:>17} | {:>17} | {:>13} | {:>20} | {:>13}",
         "file",
         "path m",
         "mean err % p/c",
@@ -128,12 +154,18 @@ pub fn format_header() -> String {
     )
 }
 
-/// One line of the table: `label`, then `second` (the true path in m of a
-/// file, or the file count of a group), then both methods' figures side by
-/// side (the truth's skating from `contact`'s).
-fn format_line(label: &str, second: &str, paper: &Accuracy, contact: &Accuracy) -> String {
+/// One line of the table: `label` (padded to `label_width`), then `second`
+/// (the true path in m of a file, or the file count of a group), then both
+/// methods' figures side by side (the truth's skating from `contact`'s).
+pub(super) fn format_line(
+    label_width: usize,
+    label: &str,
+    second: &str,
+    paper: &Accuracy,
+    contact: &Accuracy,
+) -> String {
     format!(
-        "{:<36} {:>8} | {:>8.2} {:>8.2} | {:>8.2} {:>8.2} | {:>6.3} {:>6.3} | {:>6.2} {:>6.2} {:>6.2} | {:>6.1} {:>6.1}",
+        "{:<label_width$} {:>8} | {:>8.2} {:>8.2} | {:>8.2} {:>8.2} | {:>6.3} {:>6.3} | {:>6.2} {:>6.2} {:>6.2} | {:>6.1} {:>6.1}",
         label,
         second,
         paper.mean_error_pct,
@@ -152,26 +184,48 @@ fn format_line(label: &str, second: &str, paper: &Accuracy, contact: &Accuracy) 
 
 /// A file's line of the table, without a line end.
 pub fn format_file(file: &FileAccuracy) -> String {
+    format_file_line(FILE_WIDTH, file)
+}
+
+/// A file's line with its name padded to `label_width`, without a line end.
+pub(super) fn format_file_line(label_width: usize, file: &FileAccuracy) -> String {
     let path_m = format!("{:.2}", file.contact.true_path_cm / 100.0);
-    format_line(&file.name, &path_m, &file.paper, &file.contact)
+    format_line(label_width, &file.name, &path_m, &file.paper, &file.contact)
 }
 
 /// The summary's lines, each ending in a line end: a heading, one line per
 /// motion type, one for all files, and the count of files where contact wins.
 pub fn format_summary(summary: &Summary) -> String {
     let group = |label: &str, g: &GroupMedians| {
-        format_line(label, &g.file_count.to_string(), &g.paper, &g.contact) + "\n"
+        format_line(FILE_WIDTH, label, &g.file_count.to_string(), &g.paper, &g.contact)
     };
-    let mut text = String::from(
-        "medians (percentages and ratios over files whose hips travel ≥ 0.5 m; the count is all files):\n",
-    );
-    for (motion, medians) in &summary.by_motion_type {
-        text += &group(&format!("  {motion}"), medians);
+    let counts = (summary.moving_file_count, summary.contact_better_count);
+    MEDIANS_HEADING.to_string() + &format_groups(&summary.by_motion_type, &summary.all, counts, "", group)
+}
+
+/// The first line of a table's medians, with its line end.
+pub(super) const MEDIANS_HEADING: &str =
+    "medians (percentages and ratios over files whose hips travel ≥ 0.5 m; the count is all files):\n";
+
+/// One set of medians, each line ending in a line end: per motion type
+/// `line("  TYPE", medians)`, then `line("  all", all)`, then (after
+/// `count_indent`) on how many of the moving files (`counts`: moving, won)
+/// contact beats paper.
+pub(super) fn format_groups<G>(
+    by_motion_type: &[(String, G)],
+    all: &G,
+    (moving_file_count, contact_better_count): (usize, usize),
+    count_indent: &str,
+    line: impl Fn(&str, &G) -> String,
+) -> String {
+    let mut text = String::new();
+    for (motion, medians) in by_motion_type {
+        text += &(line(&format!("  {motion}"), medians) + "\n");
     }
-    text += &group("  all", &summary.all);
+    text += &(line("  all", all) + "\n");
     text += &format!(
-        "contact beats paper on mean error in {} of {} files whose hips travel ≥ 0.5 m\n",
-        summary.contact_better_count, summary.moving_file_count
+        "{count_indent}contact beats paper on mean error in {contact_better_count} of {moving_file_count} files \
+         whose hips travel ≥ 0.5 m\n"
     );
     text
 }

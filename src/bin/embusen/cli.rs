@@ -38,16 +38,26 @@ enum Command {
         fps: Option<f64>,
     },
     /// Measure both methods: ground-truth BVHs (translation removed and
-    /// re-estimated, compared with the truth) and katas (how far the hips end
-    /// from where they started). Directories are searched for `.bvh` files.
+    /// re-estimated, compared with the truth), suit-grade BVHs (the same,
+    /// compared with their own truth, beside the leg-length oracle) and katas
+    /// (how far the hips end from where they started). Directories are
+    /// searched for `.bvh` files.
     Eval {
-        /// Ground-truth BVHs, or directories of them.
-        #[arg(required = true)]
+        /// Ground-truth BVHs, suit-grade BVHs (any named `NAME.suit-TAG.bvh`,
+        /// whose truth is `NAME.bvh`), or directories of them.
+        #[arg(required_unless_present = "pair")]
         inputs: Vec<PathBuf>,
         /// Recordings that end where they start (katas): BVH (with
         /// `<name>.accel.csv` beside it, if any) or tables, or directories.
         #[arg(long, num_args = 1..)]
         closure: Vec<PathBuf>,
+        /// Folder of the suit files' truths. Default: `../groundtruth/` from
+        /// the suit file's folder, else the suit file's own folder.
+        #[arg(long, value_name = "DIR")]
+        truth: Option<PathBuf>,
+        /// A suit-grade BVH and its truth, whatever their names (repeatable).
+        #[arg(long, num_args = 2, value_names = ["SUIT", "TRUTH"])]
+        pair: Vec<PathBuf>,
     },
 }
 
@@ -113,7 +123,9 @@ pub fn main() -> ExitCode {
         None => run_demo(),
         Some(Command::Info { inputs, fps }) => run_info(&inputs, fps),
         Some(Command::Translate(args)) => run_translate(&args),
-        Some(Command::Eval { inputs, closure }) => run_eval(&inputs, &closure),
+        Some(Command::Eval { inputs, closure, truth, pair }) => {
+            run_eval(&inputs, &closure, truth.as_deref(), &pair)
+        }
     }
 }
 
@@ -137,33 +149,66 @@ fn expand(inputs: &[PathBuf]) -> Vec<PathBuf> {
     files
 }
 
-fn run_eval(inputs: &[PathBuf], closure: &[PathBuf]) -> ExitCode {
-    use embusen::eval::kata_closure_cm;
-    use embusen::eval::summary::{evaluate_file, format_file, format_header, format_summary, summarise};
-    let mut failed = 0;
-    let mut files = Vec::new();
-    println!("{}", format_header());
-    for path in expand(inputs) {
-        let name = path.file_name().map_or(path.display().to_string(), |n| n.to_string_lossy().into_owned());
-        let result = load(&path, None).and_then(|recording| match &recording.source {
-            embusen::io::recording::Source::Bvh(bvh) => evaluate_file(bvh, &name),
-            embusen::io::recording::Source::Table(_) => {
-                Err(Error::whole(&name, "ground truth must be a BVH (its root channels are the truth)"))
-            }
-        });
-        match result {
-            Ok(file) => {
-                println!("{}", format_file(&file));
-                files.push(file);
-            }
-            Err(e) => {
-                eprintln!("error: {e}");
-                failed += 1;
-            }
-        }
+/// The file name of `path`, as the tables show it.
+fn file_name(path: &Path) -> String {
+    path.file_name().map_or(path.display().to_string(), |n| n.to_string_lossy().into_owned())
+}
+
+/// Reads a BVH, naming it `name` in the error if it is a table (`why`: what
+/// a BVH is needed for).
+fn load_bvh(path: &Path, name: &str, why: &str) -> Result<embusen::io::bvh::Bvh, Error> {
+    match load(path, None)?.source {
+        embusen::io::recording::Source::Bvh(bvh) => Ok(bvh),
+        embusen::io::recording::Source::Table(_) => Err(Error::whole(name, why)),
     }
-    if !files.is_empty() {
-        print!("{}", format_summary(&summarise(&files)));
+}
+
+/// The truth of the suit file `suit` (`NAME.suit-TAG.bvh`): `NAME.bvh` in
+/// `truth_dir` if given, else in `../groundtruth/` from the suit file's
+/// folder, else beside it.
+fn truth_path_for(suit: &Path, truth_dir: Option<&Path>) -> Result<PathBuf, Error> {
+    let name = file_name(suit);
+    let Some(truth_name) = embusen::eval::suit::truth_file_name(&name) else {
+        return Err(Error::whole(&suit.display().to_string(), "is not named NAME.suit-TAG.bvh"));
+    };
+    let folder = suit.parent().unwrap_or(Path::new(""));
+    let candidates = match truth_dir {
+        Some(dir) => vec![dir.join(&truth_name)],
+        None => vec![folder.join("..").join("groundtruth").join(&truth_name), folder.join(&truth_name)],
+    };
+    candidates.iter().find(|c| c.is_file()).cloned().ok_or_else(|| {
+        let looked: Vec<String> = candidates.iter().map(|c| c.display().to_string()).collect();
+        Error::whole(
+            &suit.display().to_string(),
+            format!(
+                "its truth is not found (looked for {}); give --truth DIR or --pair SUIT TRUTH",
+                looked.join(" and ")
+            ),
+        )
+    })
+}
+
+fn run_eval(
+    inputs: &[PathBuf],
+    closure: &[PathBuf],
+    truth_dir: Option<&Path>,
+    pairs: &[PathBuf],
+) -> ExitCode {
+    use embusen::eval::kata_closure_cm;
+    let (suits, groundtruths): (Vec<PathBuf>, Vec<PathBuf>) = expand(inputs)
+        .into_iter()
+        .partition(|p| embusen::eval::suit::suit_name_parts(&file_name(p)).is_some());
+    // Each suit file with its truth, or why it has none.
+    let mut suit_pairs: Vec<(PathBuf, Result<PathBuf, Error>)> =
+        suits.into_iter().map(|s| (s.clone(), truth_path_for(&s, truth_dir))).collect();
+    suit_pairs.extend(pairs.chunks_exact(2).map(|p| (p[0].clone(), Ok(p[1].clone()))));
+    let mut failed = 0;
+    // Without suit files, the ground-truth table is printed even when empty, as it always was.
+    if !groundtruths.is_empty() || suit_pairs.is_empty() {
+        failed += eval_groundtruth(&groundtruths);
+    }
+    if !suit_pairs.is_empty() {
+        failed += eval_suits(&suit_pairs);
     }
     let methods = [Method::Paper(PaperParams::default()), Method::default()];
     let closure_files = expand(closure);
@@ -187,6 +232,71 @@ fn run_eval(inputs: &[PathBuf], closure: &[PathBuf]) -> ExitCode {
         }
     }
     if failed > 0 { ExitCode::FAILURE } else { ExitCode::SUCCESS }
+}
+
+/// Prints the ground-truth table and its medians; returns how many files failed.
+fn eval_groundtruth(paths: &[PathBuf]) -> usize {
+    use embusen::eval::summary::{evaluate_file, format_file, format_header, format_summary, summarise};
+    let mut failed = 0;
+    let mut files = Vec::new();
+    println!("{}", format_header());
+    for path in paths {
+        let name = file_name(path);
+        let result = load_bvh(path, &name, "ground truth must be a BVH (its root channels are the truth)")
+            .and_then(|bvh| evaluate_file(&bvh, &name));
+        match result {
+            Ok(file) => {
+                println!("{}", format_file(&file));
+                files.push(file);
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                failed += 1;
+            }
+        }
+    }
+    if !files.is_empty() {
+        print!("{}", format_summary(&summarise(&files)));
+    }
+    failed
+}
+
+/// Prints the suit table (each suit file against its truth, or the error of
+/// finding that) and its medians; returns how many files failed.
+fn eval_suits(pairs: &[(PathBuf, Result<PathBuf, Error>)]) -> usize {
+    use embusen::eval::suit::{
+        evaluate_suit_file, format_suit_file, format_suit_header, format_suit_summary, summarise_suit,
+    };
+    let mut failed = 0;
+    let mut files = Vec::new();
+    println!("{}", format_suit_header());
+    for (suit_path, truth_path) in pairs {
+        let name = file_name(suit_path);
+        let result = truth_path.clone().and_then(|truth_path| {
+            let suit =
+                load_bvh(suit_path, &name, "a suit file must be a BVH (its pose is what is measured)")?;
+            let truth = load_bvh(
+                &truth_path,
+                &file_name(&truth_path),
+                "a truth must be a BVH (its root channels are the truth)",
+            )?;
+            evaluate_suit_file(&suit, &truth, &name)
+        });
+        match result {
+            Ok(file) => {
+                println!("{}", format_suit_file(&file));
+                files.push(file);
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                failed += 1;
+            }
+        }
+    }
+    if !files.is_empty() {
+        print!("{}", format_suit_summary(&summarise_suit(&files)));
+    }
+    failed
 }
 
 /// Reads a file into a [`Recording`], naming the file in any error.
