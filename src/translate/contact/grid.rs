@@ -20,6 +20,7 @@ use glam::DVec3;
 use super::ContactParams;
 use super::flight::{Lifts, flights};
 use super::footing::{Candidate, Footing};
+use super::noise::smoothing_samples;
 use super::solve::{Problem, Solution};
 use crate::body::feet::PerFoot;
 use crate::body::sole::Sole;
@@ -74,17 +75,24 @@ pub(super) struct Grid {
     /// Per phase, the frames it takes: every `step`-th from the phase's
     /// index (fewer phases when the recording is shorter than a step).
     pub phases: Vec<Vec<usize>>,
-    /// How far (samples) tracking jitter is smoothed before the contacts are
-    /// chosen: none where every frame is taken.
+    /// How far (samples) tracking jitter and noise are smoothed before the
+    /// contacts are chosen: none where every frame is taken on a clean pose.
     pub sigma_samples: f64,
 }
 
 impl Grid {
-    /// The grid for `n` frames at `fps`.
-    pub fn new(n: usize, fps: f64, params: &ContactParams) -> Grid {
+    /// The grid for `n` frames at `fps`, on a pose whose noise
+    /// ([`super::noise::pose_noise_cm`] on frames `step` apart) is `noise_cm`:
+    /// the smoothing is the larger of the jitter smoothing (where frames are
+    /// left out) and the one that brings the noise's velocity on the grid's
+    /// frames down to `max_velocity_noise_cm_per_s`.
+    pub fn new(n: usize, fps: f64, noise_cm: f64, params: &ContactParams) -> Grid {
         let step = grid_step(fps, params.cost_time_s);
         let phases = (0..step.min(n)).map(|phase| (phase..n).step_by(step).collect()).collect();
-        let sigma_samples = if step > 1 { params.jitter_s * fps } else { 0.0 };
+        let jitter_samples = if step > 1 { params.jitter_s * fps } else { 0.0 };
+        let noise_samples =
+            smoothing_samples(noise_cm, step as f64 / fps, params.max_velocity_noise_cm_per_s) * step as f64;
+        let sigma_samples = jitter_samples.max(noise_samples.min(params.max_noise_smoothing_s * fps));
         Grid { step, phases, sigma_samples }
     }
 
@@ -215,7 +223,7 @@ mod tests {
             assert_eq!(grid_step(fps, cost_time_s), step, "{fps} fps");
         }
         // Fewer phases than the step when the recording is shorter.
-        let grid = Grid::new(2, 100.0, &ContactParams::default());
+        let grid = Grid::new(2, 100.0, 0.0, &ContactParams::default());
         assert_eq!(grid.phases, vec![vec![0], vec![1]]);
     }
 

@@ -27,6 +27,12 @@
 //!    into it, it is a flight (`flight.rs`), and no foot ever goes below the
 //!    floor.
 //!
+//! An inertial suit's pose is noisy: a centimetre of noise on a foot
+//! relative to the hips is tens of cm/s of velocity at 30 fps. The noise is
+//! measured on the recording (`noise.rs`) and smoothed away before the
+//! contacts are chosen, over the least time that brings it below what the
+//! choice weighs; a clean optical pose is not smoothed.
+//!
 //! Everything is in seconds and centimetres ([`ContactParams`]), and the
 //! costs are integrals over time. The contacts are chosen on frames about
 //! 1/30 s apart, once for each way of taking them, and the paths averaged
@@ -39,6 +45,7 @@
 mod flight;
 mod footing;
 mod grid;
+mod noise;
 mod params;
 mod pressure;
 mod solve;
@@ -82,6 +89,10 @@ pub struct ContactResult {
     /// The floor's height in the recording's coordinates (cm): where the
     /// corrected recording puts its lowest foot points.
     pub ground_cm: f64,
+    /// The tracking noise measured on the pose (cm, per axis, of the feet
+    /// relative to the hips; see [`noise`]): what the choice of contacts was
+    /// smoothed for.
+    pub pose_noise_cm: f64,
     /// The sole depth used (cm), as given or as estimated; `None` where it
     /// does not apply (feet without toes: their ankles are pinned).
     pub sole_depth_cm: Option<f64>,
@@ -114,7 +125,9 @@ pub fn contact_translation(
     }
     let dt = 1.0 / fps;
     params.check()?;
-    let grid = Grid::new(n, fps, params);
+    let step = grid::grid_step(fps, params.cost_time_s);
+    let noise_cm = noise::pose_noise_cm(poses, feet, hips, step);
+    let grid = Grid::new(n, fps, noise_cm, params);
     let motion = Motion {
         hips_to_com_cm: smooth_paths(&hips_to_com_cm(poses, parents, feet, hips), 1, grid.sigma_samples),
         accel_off_g: PerFoot::from_fn(|foot| {
@@ -143,7 +156,16 @@ pub fn contact_translation(
     let shift_cm = shift_cm(poses, hips, &path, &vertical, ground_cm);
     let warnings = flight_warnings(&vertical);
     let sole_depth_cm = has_toes.then_some(sole_depth_cm);
-    Ok(ContactResult { shift_cm, support, contact_part, clearance_cm, ground_cm, sole_depth_cm, warnings })
+    Ok(ContactResult {
+        shift_cm,
+        support,
+        contact_part,
+        clearance_cm,
+        ground_cm,
+        pose_noise_cm: noise_cm,
+        sole_depth_cm,
+        warnings,
+    })
 }
 
 /// The sole depth whose phases' best contacts cost least in all, and those

@@ -80,6 +80,16 @@ pub struct ContactParams {
     /// not decide, and well within a running stance (~0.2 s), so that what is
     /// measured is the push-off.
     pub ballistic_evidence_s: f64,
+    /// The tracking noise a foot's velocity may keep when the contacts are
+    /// chosen (cm/s): half a `slip_cm_per_s`, so that noise alone never costs
+    /// as much as one unit of velocity change. A pose whose measured noise
+    /// ([`super::noise`]) exceeds it is smoothed, over the least time that
+    /// brings it down to this; a clean optical pose is not smoothed at all.
+    pub max_velocity_noise_cm_per_s: f64,
+    /// The longest that smoothing may reach (s, the Gaussian's standard
+    /// deviation): a heel-to-toe roll, so that a step's contacts stay apart
+    /// however noisy the pose.
+    pub max_noise_smoothing_s: f64,
     /// A centre of mass lower than this above the floor (cm) is taken to be
     /// this high when reckoning the floor's push: a body crouched or lying
     /// down is not an inverted pendulum, and the push would grow without
@@ -110,6 +120,8 @@ impl ContactParams {
             ("accel_slip_g", self.accel_slip_g, positive),
             ("ballistic_evidence_s", self.ballistic_evidence_s, positive),
             ("min_com_height_cm", self.min_com_height_cm, positive),
+            ("max_velocity_noise_cm_per_s", self.max_velocity_noise_cm_per_s, positive),
+            ("max_noise_smoothing_s", self.max_noise_smoothing_s, not_negative),
             ("lift_cm", self.lift_cm, not_negative),
             ("flight_margin_cm", self.flight_margin_cm, not_negative),
             ("coast_cost_per_s", self.coast_cost_per_s, not_negative),
@@ -144,6 +156,8 @@ impl Default for ContactParams {
             min_takeoff_cm_per_s: 20.0,
             ballistic_evidence_s: 0.05,
             min_com_height_cm: 30.0,
+            max_velocity_noise_cm_per_s: 12.5,
+            max_noise_smoothing_s: 0.1,
         }
     }
 }

@@ -1,0 +1,106 @@
+//! How much tracking noise a recording's pose carries, measured on the
+//! recording itself, and how far to smooth it away before the contacts are
+//! chosen.
+//!
+//! An inertial suit's segment orientations are noisy (more so the faster a
+//! segment turns), and a few degrees on a thigh and a shank move the foot a
+//! centimetre or more relative to the hips from one frame to the next. A
+//! planted foot's velocity relative to the hips is the hips' velocity, so
+//! that noise, differenced, is a velocity noise of tens of cm/s at 30 fps:
+//! more than the velocity changes the choice of contacts weighs. Smoothing
+//! removes it, but also blurs a runner's landings, so the time scale is the
+//! least that brings the noise down, and none on a clean recording.
+
+use glam::DVec3;
+
+use crate::body::feet::FootJoints;
+use crate::body::skeleton::Poses;
+use crate::signal::stats::upper_median;
+
+/// The standard deviation (cm, per axis) of white noise on the feet's
+/// positions relative to the hips, as seen on frames `step` apart.
+///
+/// The fourth difference `p[f-2k] − 4 p[f-k] + 6 p[f] − 4 p[f+k] + p[f+2k]`
+/// of a foot's path holds the motion's fourth derivative times `(k dt)⁴`,
+/// which is small wherever the motion is slow beside the frame rate, and,
+/// for white noise of deviation `σ` per axis, a noise of variance `70 σ²` per
+/// axis. The median of its squared length (a χ² of 3 degrees of freedom for
+/// the noise, whose median is 2.366 times the per-axis variance) over both
+/// feet and all frames gives `σ`: the median leaves out the few frames of a
+/// landing, where the real motion is fast. Zero when the recording is too
+/// short.
+pub fn pose_noise_cm(poses: &Poses, feet: FootJoints, hips: usize, step: usize) -> f64 {
+    const FOURTH_DIFFERENCE_GAIN: f64 = 70.0;
+    const CHI2_3_MEDIAN: f64 = 2.366;
+    let n = poses.frame_count();
+    let k = step.max(1);
+    if n <= 4 * k {
+        return 0.0;
+    }
+    let mut values = Vec::with_capacity(2 * n);
+    for (_, &joint) in feet.iter() {
+        let at = |f: usize| -> DVec3 { poses.at(f, joint) - poses.at(f, hips) };
+        values.extend((2 * k..n - 2 * k).map(|f| {
+            (at(f - 2 * k) - 4.0 * at(f - k) + 6.0 * at(f) - 4.0 * at(f + k) + at(f + 2 * k)).length_squared()
+        }));
+    }
+    (upper_median(&values) / (FOURTH_DIFFERENCE_GAIN * CHI2_3_MEDIAN)).sqrt()
+}
+
+/// The Gaussian's standard deviation (samples) that brings white position
+/// noise of `noise_cm` on samples `dt` s apart down to a velocity noise of
+/// `velocity_noise_cm_per_s`: the derivative of the smoothed noise has
+/// deviation `σ_n / dt · (4 √π s³)^(−1/2)` for a kernel of `s` samples.
+pub fn smoothing_samples(noise_cm: f64, dt: f64, velocity_noise_cm_per_s: f64) -> f64 {
+    if !(noise_cm > 0.0 && dt > 0.0 && velocity_noise_cm_per_s > 0.0) {
+        return 0.0;
+    }
+    let ratio = noise_cm / dt / velocity_noise_cm_per_s;
+    (ratio * ratio / (4.0 * std::f64::consts::PI.sqrt())).cbrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A foot circling the hips at `omega` rad/s, sampled at 30 fps, with
+    /// `noise` cm of pseudo-random white noise.
+    fn circling(noise: f64, omega: f64) -> (Poses, FootJoints) {
+        let mut seed = 12345u64;
+        let mut uniform = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        // Uniform on [-a, a] has deviation a / √3.
+        let mut jitter =
+            || DVec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5) * (2.0 * noise * 3f64.sqrt());
+        let mut positions = Vec::new();
+        for f in 0..600 {
+            let t = f as f64 / 30.0;
+            let foot = DVec3::new(20.0 * (omega * t).cos(), -80.0, 20.0 * (omega * t).sin());
+            positions.extend([DVec3::ZERO, foot + jitter(), foot + jitter()]);
+        }
+        (Poses { joint_count: 3, positions_cm: positions }, FootJoints { left: 1, right: 2 })
+    }
+
+    #[test]
+    fn the_noise_is_measured_apart_from_the_motion() {
+        let (clean, feet) = circling(0.0, 6.0);
+        assert!(pose_noise_cm(&clean, feet, 0, 1) < 0.05, "{}", pose_noise_cm(&clean, feet, 0, 1));
+        for noise in [0.5, 2.0] {
+            let (noisy, feet) = circling(noise, 6.0);
+            let measured = pose_noise_cm(&noisy, feet, 0, 1);
+            assert!((measured / noise - 1.0).abs() < 0.25, "{noise} cm measured as {measured}");
+        }
+    }
+
+    #[test]
+    fn no_noise_needs_no_smoothing() {
+        assert_eq!(smoothing_samples(0.0, 1.0 / 30.0, 12.5), 0.0);
+        let s = smoothing_samples(1.0, 1.0 / 30.0, 12.5);
+        assert!(s > 0.5 && s < 5.0, "{s}");
+        assert!(smoothing_samples(2.0, 1.0 / 30.0, 12.5) > s);
+    }
+}
