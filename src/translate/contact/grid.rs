@@ -78,6 +78,10 @@ pub(super) struct Grid {
     /// How far (samples) tracking jitter and noise are smoothed before the
     /// contacts are chosen: none where every frame is taken on a clean pose.
     pub sigma_samples: f64,
+    /// The part of that smoothing the pose's noise asks for (samples): the
+    /// time scale over which the noise, carried into the hips by the pinned
+    /// points, is smoothed out of the hips' path.
+    pub noise_sigma_samples: f64,
 }
 
 impl Grid {
@@ -92,8 +96,9 @@ impl Grid {
         let jitter_samples = if step > 1 { params.jitter_s * fps } else { 0.0 };
         let noise_samples =
             smoothing_samples(noise_cm, step as f64 / fps, params.max_velocity_noise_cm_per_s) * step as f64;
-        let sigma_samples = jitter_samples.max(noise_samples.min(params.max_noise_smoothing_s * fps));
-        Grid { step, phases, sigma_samples }
+        let noise_sigma_samples = noise_samples.min(params.max_noise_smoothing_s * fps);
+        let sigma_samples = jitter_samples.max(noise_sigma_samples);
+        Grid { step, phases, sigma_samples, noise_sigma_samples }
     }
 
     /// The best contacts of every phase on `soles` (at every frame).

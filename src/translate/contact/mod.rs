@@ -143,7 +143,13 @@ pub fn contact_translation(
 
     // Back to every frame, on the unsmoothed soles.
     let footing = Footing::new(shapes.as_ref().map(|shape| shape.sole(sole_depth_cm)));
-    let path = grid.hips_path(&footing, &choices, horizontal(poses.at(0, hips)), dt);
+    // A pinned point holds still, so the pose's noise relative to the hips
+    // lands in the hips' path; a body's hips do not shake at that scale.
+    let path = smooth_paths(
+        &grid.hips_path(&footing, &choices, horizontal(poses.at(0, hips)), dt),
+        1,
+        grid.noise_sigma_samples,
+    );
     let vertical = grid.vertical(&footing.lowest.standing_cm, &choices, params);
     let decisions = grid.decisions(&choices, n);
     let support = (0..n).map(|f| support(decisions[f], vertical.flight[f], &footing, f)).collect();
