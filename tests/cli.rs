@@ -45,7 +45,15 @@ fn no_arguments_runs_the_demo() {
     let out = embusen(&[]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let stdout = text(&out.stdout);
-    assert!(stdout.contains("built-in demo") && stdout.contains("mean horizontal error"), "{stdout}");
+    assert!(stdout.contains("built-in demo") && stdout.contains("hips error against the truth"), "{stdout}");
+    // Both methods' mean and final errors, and which of them is better.
+    for method in ["contact", "paper"] {
+        assert!(
+            stdout.lines().any(|l| l.trim_start().starts_with(method) && l.contains("final")),
+            "{stdout}"
+        );
+    }
+    assert!(stdout.contains("is better on this demo"), "{stdout}");
 }
 
 #[test]

@@ -1,23 +1,40 @@
-//! The demo recording is ground truth for translation methods, so these check
-//! that it is physically consistent: planted feet hold still under forward
-//! kinematics, nothing sinks into the floor, the path is real and closes, and
-//! the simulated accelerometers read 1 g where the feet rest.
+//! The demo recording's truth is ground truth for translation methods, so
+//! these check that it is physically consistent: planted feet hold still
+//! under forward kinematics, nothing sinks into the floor, the path is real
+//! and closes, and the simulated accelerometers read 1 g where the feet rest.
+//! The recording itself is a suit's: its errors are what the model says,
+//! the same for the same seed, and the recording parses, round-trips and
+//! plays.
 
 // A test may panic on what it does not expect: that is how it fails.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+use embusen::app::session::{Session, Settings};
 use embusen::body::feet::{Foot, FootJoints, detect_feet};
 use embusen::body::kinematics::forward_kinematics;
 use embusen::body::skeleton::{Channel, Poses};
-use embusen::synth::demo::{ANKLE_HEIGHT_CM, DEMO_FPS, Demo, demo};
+use embusen::eval::leg_length_cm;
+use embusen::io::recording::Recording;
+use embusen::io::recording::Source;
+use embusen::synth::demo::{ANKLE_HEIGHT_CM, DEMO_FPS, DEMO_NAME, Demo, demo, demo_with_suit_seed};
+use embusen::synth::suit::{MAX_SIGMAS, VENDOR_WALK_CM_PER_SQRT_S};
 use glam::DVec3;
 
 /// As documented on [`Demo`].
 const FRAMES: usize = 2406;
 const DOCUMENTED_DURATION_S: f64 = 24.06;
 
+/// The true motion's poses.
 fn poses(d: &Demo) -> Poses {
-    forward_kinematics(&d.skeleton, &d.motion)
+    forward_kinematics(&d.true_skeleton, &d.true_motion)
+}
+
+/// The BVH text of the recording the tool opens.
+fn recording_text(d: &Demo) -> String {
+    match d.recording().source {
+        Source::Bvh(bvh) => bvh.write(),
+        Source::Table(_) => panic!("the demo is a BVH"),
+    }
 }
 
 /// The foot joints, and the toe end site under each.
@@ -45,6 +62,8 @@ fn sizes_and_rate_are_as_documented() {
     assert_eq!(d.foot_accel_g.left.len(), FRAMES);
     assert_eq!(d.foot_accel_g.right.len(), FRAMES);
     assert_eq!(d.motion.channel_count, d.skeleton.channel_count());
+    assert_eq!(d.true_motion.frame_count(), FRAMES);
+    assert_eq!(d.true_skeleton.names, d.skeleton.names, "one hierarchy");
 }
 
 #[test]
@@ -185,4 +204,75 @@ fn without_translation_freezes_only_the_root_position() {
         assert_eq!(&frozen.frame(f)[..3], start, "frame {f}");
         assert_eq!(frozen.frame(f)[3..], d.motion.frame(f)[3..], "frame {f}");
     }
+}
+
+#[test]
+fn the_same_seed_gives_the_same_bytes() {
+    assert_eq!(recording_text(&demo_with_suit_seed(5)), recording_text(&demo_with_suit_seed(5)));
+    assert_ne!(recording_text(&demo_with_suit_seed(5)), recording_text(&demo_with_suit_seed(6)));
+    // The truth does not depend on the suit's seed.
+    assert_eq!(demo_with_suit_seed(5).true_motion, demo_with_suit_seed(6).true_motion);
+}
+
+#[test]
+fn the_suit_gets_the_pose_a_little_wrong() {
+    let d = demo();
+    let (feet, toes) = feet_and_toes(&d);
+    let truth = poses(&d);
+    let suit = forward_kinematics(&d.skeleton, &d.without_translation());
+    // The legs' length as the eval measures it is the model's ratio, a few percent off.
+    let hips = 0;
+    let measured = leg_length_cm(&suit, &d.skeleton.parents, feet, hips)
+        / leg_length_cm(&truth, &d.true_skeleton.parents, feet, hips);
+    assert!((measured - d.leg_length_ratio).abs() < 1e-9, "{measured} vs {}", d.leg_length_ratio);
+    assert!((0.01..0.08).contains(&(d.leg_length_ratio - 1.0).abs()), "{}", d.leg_length_ratio);
+    // Relative to the hips, each toe is off by centimetres, not millimetres
+    // nor decimetres.
+    for side in Foot::BOTH {
+        let off = |f: usize| {
+            let relative = |p: &Poses| p.at(f, toes[side]) - p.at(f, hips);
+            relative(&suit).distance(relative(&truth))
+        };
+        let mean_cm = (0..FRAMES).map(off).sum::<f64>() / FRAMES as f64;
+        assert!((1.0..15.0).contains(&mean_cm), "toe {side:?} off by {mean_cm} cm on average");
+    }
+}
+
+#[test]
+fn the_vendor_translation_is_the_scaled_truth_and_a_random_walk() {
+    let d = demo();
+    let hips = forward_kinematics(&d.skeleton, &d.motion).trajectory(0);
+    let floor = |v: DVec3| v.with_y(0.0);
+    let (start, true_start) = (floor(hips[0]), floor(d.true_root_cm[0]));
+    assert_eq!(start, true_start, "the vendor starts where the truth does");
+    for (v, t) in hips.iter().zip(&d.true_root_cm) {
+        assert!((v.y - t.y * d.leg_length_ratio).abs() < 1e-9, "the height is only scaled: {v} vs {t}");
+    }
+    let walk_cm: Vec<DVec3> = hips
+        .iter()
+        .zip(&d.true_root_cm)
+        .map(|(v, t)| floor(*v) - (start + (floor(*t) - true_start) * d.leg_length_ratio))
+        .collect();
+    // A random walk's deviation after T is the step's times √T per axis.
+    let duration_s = FRAMES as f64 / DEMO_FPS;
+    let bound_cm = MAX_SIGMAS * VENDOR_WALK_CM_PER_SQRT_S * duration_s.sqrt() * 2.0;
+    let last = walk_cm[FRAMES - 1];
+    assert!(last.length() > 1.0 && last.length() < bound_cm, "the walk ends {last} away");
+}
+
+#[test]
+fn the_recording_parses_round_trips_and_plays() {
+    let d = demo();
+    let text = recording_text(&d);
+    let parsed = Recording::parse(text.as_bytes(), DEMO_NAME, None).expect("the demo's BVH parses");
+    let opened = d.recording();
+    assert_eq!(parsed.joint_names, opened.joint_names);
+    assert_eq!(parsed.frame_count(), FRAMES);
+    assert_eq!(parsed.poses, opened.poses, "written and read back exactly");
+    let Source::Bvh(bvh) = &parsed.source else { panic!("a BVH") };
+    assert_eq!(bvh.write(), text, "writing it again gives the same bytes");
+    let mut session = Session::open(opened, Settings::default()).expect("the app opens the demo");
+    assert_eq!(session.recording.frame_count(), FRAMES);
+    assert!(session.translated.poses.positions_cm.iter().all(|p| p.is_finite()));
+    assert!(session.set_settings(Settings { use_paper: true, ..Default::default() }).is_ok());
 }

@@ -11,6 +11,10 @@
 //!    kinematics of the channels puts every planted ankle back where it was
 //!    planted.
 //!
+//! 5. the true motion goes through an inertial suit's errors
+//!    ([`crate::synth::suit`]): the demo is what a suit would have recorded of
+//!    it, the truth kept beside it to measure against.
+//!
 //! Coordinates: Y up, the floor is y = 0, centimetres and degrees. The figure
 //! starts at the origin facing +Z, with its left on +X; a heading of θ turns it
 //! left by θ about +Y.
@@ -24,6 +28,8 @@ use crate::io::bvh::Bvh;
 use crate::io::recording::Recording;
 use crate::io::table::Accelerations;
 use crate::signal::accel::STANDARD_GRAVITY_CM_PER_S2;
+use crate::synth::rng::XorShift64;
+use crate::synth::suit;
 
 /// The name the app shows for the demo recording.
 pub const DEMO_NAME: &str = "demo (synthetic kata)";
@@ -53,32 +59,48 @@ const LIFT_CM: f64 = 10.0;
 const PIVOT_S: f64 = 0.5;
 /// Half-width of the uniform accelerometer noise, per axis.
 const NOISE_G: f64 = 0.01;
+/// The seed of the demo's suit errors.
+pub const DEMO_SUIT_SEED: u64 = 1;
 
-/// The demo recording and the ground truth it was generated from.
+/// The demo recording, as a suit recorded it, and the ground truth it was
+/// generated from.
 ///
 /// 100 Hz, 2406 frames (24.06 s). Every per-frame vector has one entry per
 /// frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Demo {
+    /// The suit's skeleton: the true hierarchy with the vendor's bone lengths.
     pub skeleton: Skeleton,
-    /// Channel values, including the true root translation.
+    /// The suit's channel values: rotations with the suit's errors, the
+    /// vendor's guess of the translation in the Hips position channels.
     pub motion: Motion,
-    /// The Hips position channels of each frame, in cm.
+    /// The true skeleton (same joints, true bone lengths).
+    pub true_skeleton: Skeleton,
+    /// The true channel values, including the true root translation.
+    pub true_motion: Motion,
+    /// The true Hips position channels of each frame, in cm.
     pub true_root_cm: Vec<DVec3>,
-    /// Simulated accelerometers at the foot joints, in g and world axes: the
-    /// second derivative of the global foot position (central difference, in
-    /// cm/s²) plus gravity's reaction along +Y, divided by
-    /// [`STANDARD_GRAVITY_CM_PER_S2`], plus deterministic uniform noise of ±0.01 g per axis.
-    /// A foot at rest reads (0, 1, 0).
+    /// The suit's leg length over the true one (thigh and shank).
+    pub leg_length_ratio: f64,
+    /// Simulated accelerometers at the foot joints, in g and world axes, of
+    /// the true motion (an accelerometer is physical: the suit's orientation
+    /// errors are its fusion's, and the methods read only the magnitude,
+    /// which no orientation error changes): the second derivative of the
+    /// true global foot position (central difference, in cm/s²) plus
+    /// gravity's reaction along +Y, divided by [`STANDARD_GRAVITY_CM_PER_S2`],
+    /// plus deterministic uniform noise of ±0.01 g per axis. A foot at rest
+    /// reads (0, 1, 0).
     pub foot_accel_g: PerFoot<Vec<DVec3>>,
-    /// Whether each foot is planted (held still on the floor) in each frame.
+    /// Whether each foot is planted (held still on the floor) in each frame,
+    /// in the truth.
     pub stance: Vec<PerFoot<bool>>,
 }
 
 impl Demo {
-    /// The demo as the tool opens it: the true translation stripped (what an
-    /// inertial suit without a translation guess would give), the simulated
-    /// foot accelerometers attached as sensors named like the foot joints.
+    /// The demo as the tool opens it: the suit's recording with the vendor's
+    /// translation stripped (what a translation method starts from), the
+    /// simulated foot accelerometers attached as sensors named like the foot
+    /// joints.
     pub fn recording(&self) -> Recording {
         let bvh =
             Bvh { skeleton: self.skeleton.clone(), motion: self.without_translation(), warnings: Vec::new() };
@@ -91,9 +113,9 @@ impl Demo {
         recording
     }
 
-    /// The same motion with the Hips position channels of every frame set to
-    /// frame 0's values (all three axes): what a translation method gets as
-    /// input when it is tested against [`Demo::true_root_cm`].
+    /// The suit's motion with the Hips position channels of every frame set
+    /// to frame 0's values (all three axes): what a translation method gets
+    /// as input when it is tested against [`Demo::true_root_cm`].
     pub fn without_translation(&self) -> Motion {
         let mut motion = self.motion.clone();
         motion.hold_positions_at_first_frame(&self.skeleton, 0);
@@ -103,6 +125,12 @@ impl Demo {
 
 /// Generates the demo recording. Deterministic: every call returns the same.
 pub fn demo() -> Demo {
+    demo_with_suit_seed(DEMO_SUIT_SEED)
+}
+
+/// The demo with the suit's errors drawn from `seed` (the true motion is the
+/// same for every seed).
+pub fn demo_with_suit_seed(seed: u64) -> Demo {
     let rig = build_rig();
     let frames = plan_frames(&kata());
     let channel_count = rig.skeleton.channel_count();
@@ -119,10 +147,15 @@ pub fn demo() -> Demo {
     let poses = forward_kinematics(&rig.skeleton, &motion);
     let mut rng = XorShift64(0x9E37_79B9_7F4A_7C15);
     let foot_accel_g = rig.legs.map(|[_, _, foot]| accelerometer_g(&poses.trajectory(foot), &mut rng));
+    let [_, knee, ankle] = rig.legs.left;
+    let suit = suit::apply(&rig.skeleton, &motion, &[knee, ankle], seed);
     Demo {
-        skeleton: rig.skeleton,
-        motion,
+        skeleton: suit.skeleton,
+        motion: suit.motion,
+        true_skeleton: rig.skeleton,
+        true_motion: motion,
         true_root_cm,
+        leg_length_ratio: suit.leg_length_ratio,
         foot_accel_g,
         stance: frames.iter().map(|t| t.planted).collect(),
     }
@@ -465,10 +498,10 @@ fn bone_frame(bone: DVec3, front: DVec3) -> DMat3 {
 
 /// The `[z, y, x]` angles in degrees with `m = Rz(z) * Ry(y) * Rx(x)`: our
 /// channel order. Valid away from y = ±90°, which the demo never reaches.
-fn zyx_degrees(m: DMat3) -> [f64; 3] {
-    let y = (-m.x_axis.z).clamp(-1.0, 1.0).asin();
-    let z = m.x_axis.y.atan2(m.x_axis.x);
-    let x = m.y_axis.z.atan2(m.z_axis.z);
+pub(crate) fn zyx_degrees(m: DMat3) -> [f64; 3] {
+    let y = libm::asin((-m.x_axis.z).clamp(-1.0, 1.0));
+    let z = libm::atan2(m.x_axis.y, m.x_axis.x);
+    let x = libm::atan2(m.y_axis.z, m.z_axis.z);
     [z.to_degrees(), y.to_degrees(), x.to_degrees()]
 }
 
@@ -523,21 +556,6 @@ fn accelerometer_g(positions_cm: &[DVec3], rng: &mut XorShift64) -> Vec<DVec3> {
             (accel_cm_s2 + DVec3::Y * STANDARD_GRAVITY_CM_PER_S2) / STANDARD_GRAVITY_CM_PER_S2 + noise
         })
         .collect()
-}
-
-/// Marsaglia's xorshift64: deterministic noise without a dependency.
-struct XorShift64(u64);
-
-impl XorShift64 {
-    /// Uniform in [-1, 1).
-    fn symmetric(&mut self) -> f64 {
-        let mut x = self.0;
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        self.0 = x;
-        (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
 }
 
 #[cfg(test)]

@@ -6,7 +6,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use embusen::Error;
-use embusen::eval::metrics::{floor_path_cm, mean_floor_error_cm};
+use embusen::eval::demo::{PathError, evaluate_demo, vendor_error};
+use embusen::eval::metrics::floor_path_cm;
 use embusen::io::recording::{FeetChoice, Recording};
 use embusen::io::table::Accelerations;
 use embusen::synth::demo;
@@ -497,15 +498,17 @@ fn run_demo() -> ExitCode {
     let recording = demo.recording();
     println!("embusen on the built-in demo: {}", demo::DEMO_NAME);
     println!(
-        "  {} frames at {} Hz ({:.1} s); its true translation was removed and is now estimated again",
+        "  {} frames at {} Hz ({:.1} s) of a kata as an inertial suit records it (orientation errors, \
+         bones {:+.1}% in the legs); the suit's translation was removed and is now estimated again",
         recording.frame_count(),
         hz(recording.fps),
-        recording.duration_s()
+        recording.duration_s(),
+        100.0 * (demo.leg_length_ratio - 1.0)
     );
-    let truth = &demo.true_root_cm;
-    println!("  true hips floor path {:.2} m", floor_path_cm(truth) / 100.0);
+    println!("  true hips floor path {:.2} m", floor_path_cm(&demo.true_root_cm) / 100.0);
+    let mut errors = Vec::new();
     for method in [Method::default(), Method::Paper(PaperParams::default())] {
-        let translated = match recording.translate(&FeetChoice::default(), &method) {
+        let (translated, error) = match evaluate_demo(&demo, &method) {
             Ok(t) => t,
             Err(e) => {
                 eprintln!("error: {e}");
@@ -513,11 +516,27 @@ fn run_demo() -> ExitCode {
             }
         };
         println!("  {}", describe(&recording, &translated));
-        let estimated = translated.poses.trajectory(translated.hips);
+        errors.push((method.name(), error));
+    }
+    println!("  hips error against the truth, on the floor (% of the true path):");
+    let line = |name: &str, e: &PathError| {
         println!(
-            "    mean horizontal error of the {} estimate: {:.1} cm",
-            method.name(),
-            mean_floor_error_cm(&estimated, truth)
+            "    {name:<7} mean {:5.1} cm ({:.2}%), final {:5.1} cm ({:.2}%)",
+            e.mean_cm,
+            e.mean_pct(),
+            e.final_cm,
+            e.final_pct()
+        )
+    };
+    for (name, error) in &errors {
+        line(name, error);
+    }
+    line("vendor", &vendor_error(&demo));
+    errors.sort_by(|a, b| a.1.mean_cm.total_cmp(&b.1.mean_cm));
+    if let [(best, b), (other, o)] = errors.as_slice() {
+        println!(
+            "  {best} is better on this demo: its mean error is {:.1} cm, {other}'s {:.1} cm",
+            b.mean_cm, o.mean_cm
         );
     }
     println!("  try: embusen translate FILE.bvh   (see embusen --help)");
