@@ -13,6 +13,17 @@ use glam::{DMat3, DVec3};
 
 use crate::body::skeleton::{Channel, Motion, Poses, Skeleton};
 
+/// The `[z, y, x]` angles in degrees with `m = Rz(z) · Ry(y) · Rx(x)`: the
+/// values of channels `Zrotation Yrotation Xrotation`, in that order, whose
+/// [`local_rotation`] is `m`. Valid away from y = ±90°, where z and x are
+/// one turn and cannot be told apart.
+pub fn zyx_degrees(m: DMat3) -> [f64; 3] {
+    let y = libm::asin((-m.x_axis.z).clamp(-1.0, 1.0));
+    let z = libm::atan2(m.x_axis.y, m.x_axis.x);
+    let x = libm::atan2(m.y_axis.z, m.z_axis.z);
+    [z.to_degrees(), y.to_degrees(), x.to_degrees()]
+}
+
 /// The rotation of one joint in one frame, from its rotation channels.
 pub fn local_rotation(channels: &[Channel], values: &[f64]) -> DMat3 {
     let mut parent_from_joint = DMat3::IDENTITY;
@@ -69,4 +80,19 @@ pub fn forward_kinematics(skeleton: &Skeleton, motion: &Motion) -> Poses {
         }
     }
     Poses { joint_count, positions_cm }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn zyx_degrees_round_trips_through_the_channels() {
+        let channels = [Channel::Zrotation, Channel::Yrotation, Channel::Xrotation];
+        let angles = [130.0, -40.0, 75.0];
+        let back = zyx_degrees(local_rotation(&channels, &angles));
+        for (a, b) in angles.iter().zip(back) {
+            assert!((a - b).abs() < 1e-9, "{angles:?} came back as {back:?}");
+        }
+    }
 }

@@ -22,7 +22,7 @@
 use glam::{DMat3, DVec2, DVec3};
 
 use crate::body::feet::{Foot, PerFoot};
-use crate::body::kinematics::forward_kinematics;
+use crate::body::kinematics::{forward_kinematics, zyx_degrees};
 use crate::body::skeleton::{Channel, Motion, Skeleton};
 use crate::io::bvh::Bvh;
 use crate::io::recording::Recording;
@@ -496,15 +496,6 @@ fn bone_frame(bone: DVec3, front: DVec3) -> DMat3 {
     DMat3::from_cols(y.cross(z), y, z)
 }
 
-/// The `[z, y, x]` angles in degrees with `m = Rz(z) * Ry(y) * Rx(x)`: our
-/// channel order. Valid away from y = ±90°, which the demo never reaches.
-pub(crate) fn zyx_degrees(m: DMat3) -> [f64; 3] {
-    let y = libm::asin((-m.x_axis.z).clamp(-1.0, 1.0));
-    let z = libm::atan2(m.x_axis.y, m.x_axis.x);
-    let x = libm::atan2(m.y_axis.z, m.z_axis.z);
-    [z.to_degrees(), y.to_degrees(), x.to_degrees()]
-}
-
 /// Left arm `[upper arm, forearm]` channel angles for a punch amount: from
 /// the fist chambered at the waist (arm down, elbow bent forward) to the arm
 /// straight out in front at shoulder height.
@@ -561,17 +552,6 @@ fn accelerometer_g(positions_cm: &[DVec3], rng: &mut XorShift64) -> Vec<DVec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::body::kinematics::local_rotation;
-
-    #[test]
-    fn zyx_degrees_round_trips_through_the_channels() {
-        let channels = [Channel::Zrotation, Channel::Yrotation, Channel::Xrotation];
-        let angles = [130.0, -40.0, 75.0];
-        let back = zyx_degrees(local_rotation(&channels, &angles));
-        for (a, b) in angles.iter().zip(back) {
-            assert!((a - b).abs() < 1e-9, "{angles:?} came back as {back:?}");
-        }
-    }
 
     #[test]
     fn each_key_but_the_last_moves_one_foot() {

@@ -33,9 +33,8 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
-use crate::body::kinematics::local_rotation;
+use crate::body::kinematics::{local_rotation, zyx_degrees};
 use crate::body::skeleton::{Channel, Motion, Skeleton};
-use crate::synth::demo::zyx_degrees;
 use crate::synth::rng::XorShift64;
 
 /// Deviation of the sensor-to-segment misalignment, per axis.
