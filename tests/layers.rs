@@ -28,15 +28,28 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// The top-level modules named as `crate::NAME` in `text` before its unit
-/// tests, with the 1-based line of each use.
+/// The top-level modules named as `crate::NAME` in `text`, with the 1-based
+/// line of each use, leaving out the items behind `#[cfg(test)]`: a line
+/// such as `mod testing;`, or a block up to its closing brace.
 fn crate_references(text: &str) -> Vec<(usize, String)> {
     let mut found = Vec::new();
+    let mut skipping = false;
+    let mut depth = 0i64;
     for (number, line) in text.lines().enumerate() {
-        if line.trim_start().starts_with("#[cfg(test)]") {
-            break;
-        }
         let code = line.split("//").next().unwrap_or("");
+        if code.trim_start().starts_with("#[cfg(test)]") {
+            skipping = true;
+            depth = 0;
+            continue;
+        }
+        if skipping {
+            depth += code.matches('{').count() as i64 - code.matches('}').count() as i64;
+            let item_ends = depth <= 0 && (code.contains(';') || code.contains('}'));
+            if item_ends {
+                skipping = false;
+            }
+            continue;
+        }
         let mut rest = code;
         while let Some(at) = rest.find("crate::") {
             let after = &rest[at + "crate::".len()..];
@@ -104,6 +117,9 @@ fn every_folder_says_what_it_is_for_and_may_import() {
 
 #[test]
 fn the_scan_sees_an_upward_import() {
-    let text = "use crate::body::feet::Foot;\nlet x = crate::web::thing(); // crate::app in a comment\n#[cfg(test)]\nuse crate::app;";
-    assert_eq!(crate_references(text), vec![(1, "body".to_string()), (2, "web".to_string())]);
+    let text = "use crate::body::feet::Foot;\nlet x = crate::web::thing(); // crate::app in a comment\n\
+                #[cfg(test)]\nmod testing;\nuse crate::io::x;\n#[cfg(test)]\nmod tests {\n    use crate::app;\n    fn f() {\n    }\n}\nuse crate::eval::y;";
+    let lines: Vec<(usize, String)> =
+        [(1, "body"), (2, "web"), (5, "io"), (12, "eval")].iter().map(|(l, m)| (*l, m.to_string())).collect();
+    assert_eq!(crate_references(text), lines);
 }

@@ -64,9 +64,43 @@ fn contact_median_pct(summary: &SuitSummary, level: &str, motion: &str) -> f64 {
     medians.methods.contact.mean_error_pct
 }
 
-/// What the noise measured on the pose and smoothed away before the choice
-/// of contacts holds: without it, level 1 walks were off by 24 / 22 % and
-/// level 0.5 walks by 9 / 9 % (today about 5 and 3 %).
+/// With the pose's noise measured and smoothed away before the choice of
+/// contacts, a suit's walk keeps its strides: the paper method is off by
+/// about 20 % on these files.
+/// Every median of `limits` (motion, most %) at `level`, all failures named.
+fn assert_medians_within(summary: &SuitSummary, level: &str, limits: &[(&str, f64)]) {
+    let failures: Vec<String> = limits
+        .iter()
+        .map(|&(motion, limit_pct)| (motion, limit_pct, contact_median_pct(summary, level, motion)))
+        .filter(|&(_, limit_pct, pct)| pct > limit_pct)
+        .map(|(motion, limit_pct, pct)| format!("level {level} {motion}: {pct:.2} % > {limit_pct} %"))
+        .collect();
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The leg-length oracle only rescales the true path: it stays close to it,
+/// whatever the methods do, and the suits' legs are a few percent off.
+#[test]
+fn the_leg_length_oracle_stays_near_the_truth() {
+    let Some((files, summary)) = evaluate_all() else { return };
+    for file in files {
+        assert!(
+            file.leg_oracle_mean_error_pct.is_finite() && file.leg_oracle_mean_error_pct < 3.0,
+            "{}: oracle {:.2} %",
+            file.file.name,
+            file.leg_oracle_mean_error_pct
+        );
+        assert!(
+            (0.9..=1.1).contains(&file.leg_length_ratio),
+            "{}: {}",
+            file.file.name,
+            file.leg_length_ratio
+        );
+    }
+    let levels: Vec<&str> = summary.levels.iter().map(|l| l.level.as_str()).collect();
+    assert_eq!(levels, ["1", "0.5"]);
+}
+
 #[test]
 fn suit_grade_walks_keep_their_strides() {
     let Some((_, summary)) = evaluate_all() else { return };
@@ -78,8 +112,8 @@ fn suit_grade_walks_keep_their_strides() {
     }
 }
 
-/// Runs keep most of their strides at half the suit's error level (29 / 31 %
-/// without the noise smoothing, about 7 / 10 % with it).
+/// Runs keep most of their strides at half the suit's error level (the paper
+/// method loses 35-40 % on these files).
 #[test]
 fn suit_grade_runs_at_half_the_error_stay_within_fifteen_percent() {
     let Some((_, summary)) = evaluate_all() else { return };
@@ -90,29 +124,29 @@ fn suit_grade_runs_at_half_the_error_stay_within_fifteen_percent() {
 }
 
 #[test]
-#[ignore = "issue 12 acceptance not met: level 1 medians walks 5.1/5.5 % (≤ 3), run 18.8 (≤ 5), dash 14.5 (≤ 5), kick 12.7 (≤ 5), dance 7.5 (≤ 5)"]
+#[ignore = "issue 12 acceptance, not met yet: `cargo test --test suit -- --ignored` prints the medians"]
 fn suit_grade_level_1_meets_the_acceptance_figures() {
     let Some((_, summary)) = evaluate_all() else { return };
-    for (motion, limit_pct) in
-        [("walk", 3.0), ("walk-right", 3.0), ("run", 5.0), ("dash", 5.0), ("kick", 5.0), ("dance-short", 5.0)]
-    {
-        let pct = contact_median_pct(summary, "1", motion);
-        assert!(pct <= limit_pct, "level 1 {motion}: {pct:.2} % > {limit_pct} %");
-    }
+    let limits = [
+        ("walk", 3.0),
+        ("walk-right", 3.0),
+        ("run", 5.0),
+        ("dash", 5.0),
+        ("kick", 5.0),
+        ("dance-short", 5.0),
+    ];
+    assert_medians_within(summary, "1", &limits);
 }
 
 #[test]
-#[ignore = "issue 12 acceptance not met: level 0.5 medians walks 3.0/3.2 % (≤ 2), run 6.8 (≤ 3), dash 9.7 (≤ 3)"]
+#[ignore = "issue 12 acceptance, not met yet: `cargo test --test suit -- --ignored` prints the medians"]
 fn suit_grade_level_half_meets_the_acceptance_figures() {
     let Some((_, summary)) = evaluate_all() else { return };
-    for (motion, limit_pct) in [("walk", 2.0), ("walk-right", 2.0), ("run", 3.0), ("dash", 3.0)] {
-        let pct = contact_median_pct(summary, "0.5", motion);
-        assert!(pct <= limit_pct, "level 0.5 {motion}: {pct:.2} % > {limit_pct} %");
-    }
+    assert_medians_within(summary, "0.5", &[("walk", 2.0), ("walk-right", 2.0), ("run", 3.0), ("dash", 3.0)]);
 }
 
 #[test]
-#[ignore = "issue 12 acceptance not met: contact beats paper on 16 of 24 moving suit files; 16 of 28 path ratios outside 0.9-1.15 (0.58-2.05)"]
+#[ignore = "issue 12 acceptance, not met yet: `cargo test --test suit -- --ignored` prints each file that fails"]
 fn suit_grade_contact_beats_paper_on_every_file_within_a_sane_path_ratio() {
     let Some((files, _)) = evaluate_all() else { return };
     for file in files {

@@ -62,7 +62,8 @@ fn demo_opens_and_plays() {
     player.set_playing(true);
     player.tick(0.1);
     assert_eq!(player.frame(), 10);
-    player.set_speed(2.0);
+    player.set_speed(2.0).unwrap();
+    assert!(player.set_speed(f64::NAN).is_err());
     player.tick(0.1);
     assert_eq!(player.frame(), 30);
     player.step(-5);

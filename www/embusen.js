@@ -49,7 +49,12 @@ window.addEventListener(PANIC_EVENT, (event) => {
 let wasmReady = null;
 /** Loads the wasm module once per page, however many players there are. */
 function loadWasm() {
-  wasmReady ??= init({ module_or_path: new URL("./pkg/embusen_bg.wasm", import.meta.url) }).then(() => playerOptions());
+  wasmReady ??= init({ module_or_path: new URL("./pkg/embusen_bg.wasm", import.meta.url) })
+    .then(() => playerOptions())
+    .catch((e) => {
+      wasmReady = null; // a later mount tries again
+      throw e;
+    });
   return wasmReady;
 }
 
@@ -111,7 +116,11 @@ function fillSelect(select, entries, selected) {
  */
 export async function mount(element, options = {}) {
   const chrome = options.chrome ?? "minimal";
-  const hadTabIndex = element.hasAttribute("tabindex");
+  const tabIndexBefore = element.getAttribute("tabindex");
+  const restoreTabIndex = () => {
+    if (tabIndexBefore === null) element.removeAttribute("tabindex");
+    else element.setAttribute("tabindex", tabIndexBefore);
+  };
   element.classList.add("embusen", `embusen-${chrome}`);
   element.tabIndex = 0;
   element.innerHTML = `
@@ -148,8 +157,21 @@ export async function mount(element, options = {}) {
     throw new Error(`embusen: no setting control ${control}`);
   };
 
-  const choices = await loadWasm();
-  const player = new Player(view, plots);
+  /** @type {Options} */
+  let choices;
+  /** @type {Player} */
+  let player;
+  try {
+    choices = await loadWasm();
+    player = new Player(view, plots);
+  } catch (e) {
+    // No wasm or no WebGL2 here: say so in the element, and to the caller.
+    errorBox.textContent = `embusen cannot run here: ${String(e instanceof Error ? e.message : e)}`;
+    errorBox.hidden = false;
+    element.dataset.state = "error";
+    restoreTabIndex();
+    throw e;
+  }
   // Every listener goes with this signal, so destroy() removes them all at once.
   const listeners = new AbortController();
   const { signal } = listeners;
@@ -176,7 +198,8 @@ export async function mount(element, options = {}) {
   /** Shows the open recording's facts and the settings in use. */
   const refresh = () => {
     slider.max = String(Math.max(0, player.frame_count() - 1));
-    if (!info) return;
+    // Nothing open (the first load failed): no facts to show.
+    if (!info || player.frame_count() === 0) return;
     const about = player.info();
     const rows = [
       ["file", about.name],
@@ -302,7 +325,13 @@ export async function mount(element, options = {}) {
 
   playButton.addEventListener("click", () => setPlaying(!player.playing()), { signal });
   slider.addEventListener("input", () => player.set_frame(+slider.value), { signal });
-  speed.addEventListener("change", () => player.set_speed(+speed.value), { signal });
+  speed.addEventListener("change", () => {
+    try {
+      player.set_speed(+speed.value);
+    } catch (e) {
+      showError(messageOf(e));
+    }
+  }, { signal });
   looping.addEventListener("change", () => player.set_looping(looping.checked), { signal });
   follow.addEventListener("change", () => player.set_follow(follow.checked), { signal });
   ghost.addEventListener("change", () => {
@@ -485,7 +514,7 @@ export async function mount(element, options = {}) {
     view.getContext("webgl2")?.getExtension("WEBGL_lose_context")?.loseContext();
     element.replaceChildren();
     element.classList.remove("embusen", `embusen-${chrome}`);
-    if (!hadTabIndex) element.removeAttribute("tabindex");
+    restoreTabIndex();
     for (const key of ["state", "frame", "method"]) delete element.dataset[key];
     delete /** @type {any} */ (element).embusen;
   };

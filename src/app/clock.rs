@@ -88,10 +88,13 @@ impl Clock {
         self.speed
     }
 
-    /// Sets the playback speed, clamped to [`MIN_SPEED`]–[`MAX_SPEED`].
+    /// Sets the playback speed, clamped to [`MIN_SPEED`]–[`MAX_SPEED`]; NaN,
+    /// which is no speed (and would stop the clock for good), keeps the
+    /// speed it had.
     pub fn set_speed(&mut self, speed: f64) {
-        // `clamp` keeps NaN; a NaN speed would stop the clock for good.
-        self.speed = if speed.is_nan() { 1.0 } else { speed.clamp(MIN_SPEED, MAX_SPEED) };
+        if !speed.is_nan() {
+            self.speed = speed.clamp(MIN_SPEED, MAX_SPEED);
+        }
     }
 
     pub fn looping(&self) -> bool {
@@ -155,7 +158,7 @@ mod tests {
         c.set_speed(0.0);
         assert_eq!(c.speed(), MIN_SPEED);
         c.set_speed(f64::NAN);
-        assert_eq!(c.speed(), 1.0);
+        assert_eq!(c.speed(), MIN_SPEED, "NaN keeps the speed there was");
     }
 
     #[test]

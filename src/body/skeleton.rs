@@ -171,7 +171,30 @@ pub struct Poses {
     pub positions_cm: Vec<DVec3>,
 }
 
+/// Joint positions farther than this from the origin (cm) are no body on a
+/// floor: 100 km, far beyond any capture volume, and far enough below
+/// `f64`'s range that differences and sums of them stay finite.
+pub const MAX_POSITION_CM: f64 = 1.0e7;
+
 impl Poses {
+    /// An error naming the first frame with a joint position that is not a
+    /// finite number within [`MAX_POSITION_CM`] of the origin: the methods
+    /// would turn it into NaN.
+    pub fn check_positions(&self) -> Result<(), String> {
+        let joints = self.joint_count.max(1);
+        let usable = |p: &DVec3| p.is_finite() && p.abs().max_element() <= MAX_POSITION_CM;
+        match self.positions_cm.iter().position(|p| !usable(p)) {
+            Some(i) => Err(format!(
+                "joint {} in frame {} is at {:?} cm: not a finite position within {} km of the origin",
+                i % joints,
+                i / joints,
+                self.positions_cm[i],
+                MAX_POSITION_CM / 1.0e5
+            )),
+            None => Ok(()),
+        }
+    }
+
     pub fn frame_count(&self) -> usize {
         self.positions_cm.len().checked_div(self.joint_count).unwrap_or(0)
     }

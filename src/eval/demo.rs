@@ -7,7 +7,7 @@ use glam::DVec3;
 
 use crate::body::kinematics::forward_kinematics;
 use crate::error::Error;
-use crate::eval::metrics::{floor_path_cm, mean_floor_error_cm};
+use crate::eval::metrics::{final_floor_error_cm, floor_path_cm, mean_floor_error_cm};
 use crate::io::recording::FeetChoice;
 use crate::synth::demo::Demo;
 use crate::translate::{Method, Translated};
@@ -25,13 +25,9 @@ pub struct PathError {
 impl PathError {
     /// `estimated` (hips per frame) against `truth`.
     pub fn new(estimated: &[DVec3], truth: &[DVec3]) -> PathError {
-        let final_cm = match (estimated.first(), truth.first(), estimated.last(), truth.last()) {
-            (Some(e0), Some(t0), Some(e), Some(t)) => (*e - *e0 - (*t - *t0)).with_y(0.0).length(),
-            _ => 0.0,
-        };
         PathError {
             mean_cm: mean_floor_error_cm(estimated, truth),
-            final_cm,
+            final_cm: final_floor_error_cm(estimated, truth),
             true_path_cm: floor_path_cm(truth),
         }
     }

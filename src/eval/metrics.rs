@@ -5,7 +5,7 @@ use glam::DVec3;
 
 /// Length of the path `points` travel on the floor, in cm.
 pub fn floor_path_cm(points: &[DVec3]) -> f64 {
-    points.windows(2).map(|w| (w[1] - w[0]).with_y(0.0).length()).sum()
+    points.windows(2).map(|w| (w[1] - w[0]).with_y(0.0).length()).fold(0.0, |a, b| a + b)
 }
 
 /// Mean horizontal distance between `estimated` and `truth`, after moving
@@ -16,6 +16,17 @@ pub fn mean_floor_error_cm(estimated: &[DVec3], truth: &[DVec3]) -> f64 {
     let align = *t0 - *e0;
     let total: f64 = estimated.iter().zip(truth).map(|(e, t)| (*e + align - *t).with_y(0.0).length()).sum();
     total / estimated.len().min(truth.len()) as f64
+}
+
+/// Horizontal distance between the last points of `estimated` and `truth`,
+/// with `estimated` moved to start where `truth` does (0 for no points).
+pub fn final_floor_error_cm(estimated: &[DVec3], truth: &[DVec3]) -> f64 {
+    let n = estimated.len().min(truth.len());
+    if n == 0 {
+        return 0.0;
+    }
+    let align = truth[0] - estimated[0];
+    (estimated[n - 1] + align - truth[n - 1]).with_y(0.0).length()
 }
 
 /// Horizontal distance between the first and the last point: how far a

@@ -19,7 +19,7 @@ use glam::DVec3;
 use crate::body::feet::{FootJoints, PerFoot, foot_points};
 use crate::body::skeleton::Poses;
 use crate::error::Error;
-use crate::eval::metrics::{floor_closure_cm, floor_path_cm};
+use crate::eval::metrics::{final_floor_error_cm, floor_closure_cm, floor_path_cm, mean_floor_error_cm};
 use crate::io::bvh::Bvh;
 use crate::io::recording::{FeetChoice, Recording};
 use crate::translate::{Method, Translated};
@@ -111,9 +111,7 @@ pub fn accuracy(estimated: &Translated, truth: &Poses, parents: &[Option<usize>]
     let tru = truth.trajectory(hips);
     let n = est.len().min(tru.len());
     let true_path_cm = floor_path_cm(&tru[..n]);
-    let align = if n > 0 { (tru[0] - est[0]).with_y(0.0) } else { DVec3::ZERO };
-    let error = |f: usize| (est[f] + align - tru[f]).with_y(0.0).length();
-    let mean_error = (0..n).map(error).sum::<f64>() / n.max(1) as f64;
+    let mean_error = mean_floor_error_cm(&est[..n], &tru[..n]);
     let pct = |cm: f64| 100.0 * cm / true_path_cm;
     // Skating is a planted foot's motion in the estimate. Which point of it
     // to watch: one the truth holds still. Its lowest joint would not do: a
@@ -136,7 +134,7 @@ pub fn accuracy(estimated: &Translated, truth: &Poses, parents: &[Option<usize>]
     Accuracy {
         true_path_cm,
         mean_error_pct: pct(mean_error),
-        final_error_pct: if n > 0 { pct(error(n - 1)) } else { 0.0 },
+        final_error_pct: if n > 0 { pct(final_floor_error_cm(&est[..n], &tru[..n])) } else { 0.0 },
         path_ratio: floor_path_cm(&est[..n]) / true_path_cm,
         skating_cm_per_s: mean_speed(&estimated.poses),
         truth_skating_cm_per_s: mean_speed(truth),
@@ -213,19 +211,33 @@ pub fn evaluate_suit(suit: &Bvh, truth: &Bvh, name: &str, method: &Method) -> Re
             ),
         ));
     }
+    if (suit_recording.fps - truth.fps).abs() > 1e-6 * truth.fps {
+        return Err(Error::whole(
+            name,
+            format!(
+                "is at {} Hz but its truth at {} Hz; they must be the same take",
+                suit_recording.fps, truth.fps
+            ),
+        ));
+    }
     let feet = truth.feet(&FeetChoice::default())?;
     let hips = truth.hips(feet);
+    let true_leg_cm = leg_length_cm(&truth.poses, &truth.parents, feet, hips);
+    if true_leg_cm.is_nan() || true_leg_cm <= 0.0 {
+        return Err(Error::whole(
+            name,
+            "its truth has no bones between the feet and the hips to measure the legs by",
+        ));
+    }
     let frozen = Recording::from_bvh(freeze_translation(suit, hips), name);
     let estimated = frozen.translate(&FeetChoice::default(), method)?;
     let accuracy = accuracy(&estimated, &truth.poses, &truth.parents, truth.fps);
-    let leg_length_ratio = leg_length_cm(&suit_recording.poses, &suit_recording.parents, feet, hips)
-        / leg_length_cm(&truth.poses, &truth.parents, feet, hips);
+    let leg_length_ratio =
+        leg_length_cm(&suit_recording.poses, &suit_recording.parents, feet, hips) / true_leg_cm;
     let true_hips = truth.poses.trajectory(hips);
     let start = true_hips.first().copied().unwrap_or(DVec3::ZERO);
     let oracle: Vec<DVec3> = true_hips.iter().map(|&p| start + (p - start) * leg_length_ratio).collect();
-    let oracle_error_cm =
-        true_hips.iter().zip(&oracle).map(|(t, o)| (*o - *t).with_y(0.0).length()).sum::<f64>()
-            / true_hips.len().max(1) as f64;
+    let oracle_error_cm = mean_floor_error_cm(&oracle, &true_hips);
     Ok(SuitAccuracy {
         accuracy,
         leg_oracle_mean_error_pct: 100.0 * oracle_error_cm / floor_path_cm(&true_hips),

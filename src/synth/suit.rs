@@ -1,8 +1,9 @@
 //! An inertial suit's errors, applied to a motion made in code: what a suit
-//! would have recorded of it. The model is the one the shared suit files
-//! were made with (`../shared/data/README.md`, level 1: the real suit's
-//! errors), acting on each segment's global orientation as an IMU's fusion
-//! would get it wrong:
+//! would have recorded of it. The model follows the description of the
+//! shared suit files' (`../shared/data/README.md`, level 1: the real suit's
+//! errors) but for their vendor translation's occasional foot slides,
+//! acting on each segment's global orientation as an IMU's fusion would get
+//! it wrong:
 //!
 //! `world_from_suit(j, t) = heading(t) · drift(j, t) · noise(j, t) · world_from_true(j, t − lag) · misalignment(j)`
 //!

@@ -115,6 +115,7 @@ pub fn paper_translation(
 ) -> Result<PaperResult, String> {
     let n = poses.frame_count();
     check_inputs(poses, feet, foot_accel_g, fps, params)?;
+    poses.check_positions()?;
     let paths = feet.map(|joint| poses.trajectory(joint));
     if let Some(f) = (0..n).find(|&f| !(paths.left[f].is_finite() && paths.right[f].is_finite())) {
         return Err(format!("a foot position in frame {f} is not a finite number"));

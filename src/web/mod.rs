@@ -135,9 +135,16 @@ impl Player {
         accel_bytes: Option<Vec<u8>>,
     ) -> Result<(), JsError> {
         let mut recording = Recording::parse(bytes, name, None).map_err(js_error)?;
-        if let (Some(accel_name), Some(accel_bytes)) = (accel_name, accel_bytes) {
-            let accel = Accelerations::parse(&accel_bytes, &accel_name).map_err(js_error)?;
-            recording.attach_accel(accel).map_err(js_error)?;
+        match (accel_name, accel_bytes) {
+            (Some(accel_name), Some(accel_bytes)) => {
+                let accel = Accelerations::parse(&accel_bytes, &accel_name).map_err(js_error)?;
+                recording.attach_accel(accel).map_err(js_error)?;
+            }
+            (None, None) => {}
+            (Some(accel_name), None) => {
+                return Err(js_error(format!("{accel_name}: the accelerometer file came without its bytes")));
+            }
+            (None, Some(_)) => return Err(js_error("an accelerometer file came without its name")),
         }
         self.open(recording)
     }
@@ -293,9 +300,13 @@ impl Player {
         self.clock.set_playing(playing);
     }
 
-    /// Playback speed, clamped to 0.25–4×.
-    pub fn set_speed(&mut self, speed: f64) {
+    /// Playback speed, clamped to 0.25–4×; not a number is an error.
+    pub fn set_speed(&mut self, speed: f64) -> Result<(), JsError> {
+        if speed.is_nan() {
+            return Err(js_error("the playback speed must be a number, not NaN"));
+        }
         self.clock.set_speed(speed);
+        Ok(())
     }
 
     pub fn set_looping(&mut self, looping: bool) {

@@ -97,19 +97,25 @@ pub(super) const PATH_LEGEND: [LegendItem; 2] = [
 pub(super) const STANCE_LEGEND: [&[LegendItem]; 3] = [
     &[
         item(Swatch::Label, "left:"),
-        item(Swatch::Block(stance_color(STANCE_KINDS[0])), "acceleration"),
-        item(Swatch::Block(stance_color(STANCE_KINDS[1])), "height"),
-        item(Swatch::Block(stance_color(STANCE_KINDS[2])), "both"),
+        item(
+            Swatch::Block(stance_color(Stance::Pinned(Foot::Left, StanceReason::Acceleration))),
+            "acceleration",
+        ),
+        item(Swatch::Block(stance_color(Stance::Pinned(Foot::Left, StanceReason::Height))), "height"),
+        item(Swatch::Block(stance_color(Stance::Pinned(Foot::Left, StanceReason::Both))), "both"),
     ],
     &[
         item(Swatch::Label, "right:"),
-        item(Swatch::Block(stance_color(STANCE_KINDS[3])), "acceleration"),
-        item(Swatch::Block(stance_color(STANCE_KINDS[4])), "height"),
-        item(Swatch::Block(stance_color(STANCE_KINDS[5])), "both"),
+        item(
+            Swatch::Block(stance_color(Stance::Pinned(Foot::Right, StanceReason::Acceleration))),
+            "acceleration",
+        ),
+        item(Swatch::Block(stance_color(Stance::Pinned(Foot::Right, StanceReason::Height))), "height"),
+        item(Swatch::Block(stance_color(Stance::Pinned(Foot::Right, StanceReason::Both))), "both"),
     ],
     &[
-        item(Swatch::Block(stance_color(STANCE_KINDS[6])), "none pinned"),
-        item(Swatch::Block(stance_color(STANCE_KINDS[7])), "flight"),
+        item(Swatch::Block(stance_color(Stance::Free)), "none pinned"),
+        item(Swatch::Block(stance_color(Stance::Flight)), "flight"),
     ],
 ];
 /// The contact method's stance legend, grouped as [`STANCE_LEGEND`].

@@ -1,8 +1,9 @@
 //! The app's plots as pure data: the figure is laid out here into a list of
 //! shapes, which the browser merely paints (see `web::canvas2d`), so layout,
 //! decimation and hit-testing are tested natively and the wasm side stays
-//! thin. Like all of `app`, it may import `translate`, `io`, `body`, `synth`
-//! and `signal`, never `web`; its colours come from [`crate::app::theme`].
+//! thin. Like all of `app`, it may import the layers below (`eval`,
+//! `translate`, `synth`, `io`, `body`, `signal`), never `web`; its colours
+//! come from [`crate::app::theme`].
 //!
 //! All coordinates are pixels of the canvas the figure is painted on (its
 //! own `width` × `height`, device pixels in the app, not CSS pixels), origin

@@ -204,7 +204,7 @@ fn run_eval(
         suits.into_iter().map(|s| (s.clone(), truth_path_for(&s, truth_dir))).collect();
     suit_pairs.extend(pairs.chunks_exact(2).map(|p| (p[0].clone(), Ok(p[1].clone()))));
     let mut failed = 0;
-    // Without suit files, the ground-truth table is printed even when empty, as it always was.
+    // Without suit files the ground-truth table is printed even when empty: its header says what was asked for.
     if !groundtruths.is_empty() || suit_pairs.is_empty() {
         failed += eval_groundtruth(&groundtruths);
     }

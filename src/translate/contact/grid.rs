@@ -88,14 +88,14 @@ impl Grid {
     /// The grid for `n` frames at `fps`, on a pose whose noise
     /// ([`super::noise::pose_noise_cm`] on frames `step` apart) is `noise_cm`:
     /// the smoothing is the larger of the jitter smoothing (where frames are
-    /// left out) and the one that brings the noise's velocity on the grid's
-    /// frames down to `max_velocity_noise_cm_per_s`.
+    /// left out) and the one that brings the velocity of noise white on every
+    /// frame down to `max_velocity_noise_cm_per_s` (a velocity over the
+    /// grid's longer steps carries less of it).
     pub fn new(n: usize, fps: f64, noise_cm: f64, params: &ContactParams) -> Grid {
         let step = grid_step(fps, params.cost_time_s);
         let phases = (0..step.min(n)).map(|phase| (phase..n).step_by(step).collect()).collect();
         let jitter_samples = if step > 1 { params.jitter_s * fps } else { 0.0 };
-        let noise_samples =
-            smoothing_samples(noise_cm, step as f64 / fps, params.max_velocity_noise_cm_per_s) * step as f64;
+        let noise_samples = smoothing_samples(noise_cm, 1.0 / fps, params.max_velocity_noise_cm_per_s);
         let noise_sigma_samples = noise_samples.min(params.max_noise_smoothing_s * fps);
         let sigma_samples = jitter_samples.max(noise_sigma_samples);
         Grid { step, phases, sigma_samples, noise_sigma_samples }

@@ -125,6 +125,7 @@ pub fn contact_translation(
     }
     let dt = 1.0 / fps;
     params.check()?;
+    poses.check_positions()?;
     let step = grid::grid_step(fps, params.cost_time_s);
     let noise_cm = noise::pose_noise_cm(poses, feet, hips, step);
     let grid = Grid::new(n, fps, noise_cm, params);
@@ -411,6 +412,14 @@ mod tests {
             let params = ContactParams { sole_depth_cm: Some(depth), ..ContactParams::default() };
             let error = contact_translation(&poses, &PARENTS, FEET, 0, None, FPS, &params);
             assert!(error.unwrap_err().contains("sole depth"));
+        }
+        // A joint far off (finite, but its differences would not be) is an
+        // error naming its frame, not a NaN written into the output.
+        for far in [1.0e308, f64::NAN] {
+            let mut broken = poses.clone();
+            broken.positions_cm[3 * broken.joint_count] = DVec3::new(far, 0.0, 0.0);
+            let error = contact_translation(&broken, &PARENTS, FEET, 0, None, FPS, &ContactParams::default());
+            assert!(error.unwrap_err().contains("in frame 3"), "{far}");
         }
     }
 }

@@ -97,10 +97,23 @@ mod tests {
     }
 
     #[test]
-    fn no_noise_needs_no_smoothing() {
+    fn the_smoothing_brings_white_noise_down_to_the_velocity_asked_for() {
         assert_eq!(smoothing_samples(0.0, 1.0 / 30.0, 12.5), 0.0);
-        let s = smoothing_samples(1.0, 1.0 / 30.0, 12.5);
-        assert!(s > 0.5 && s < 5.0, "{s}");
-        assert!(smoothing_samples(2.0, 1.0 / 30.0, 12.5) > s);
+        let dt = 1.0 / 30.0;
+        for (noise_cm, target_cm_per_s) in [(1.0, 12.5), (2.0, 12.5), (1.0, 5.0)] {
+            let (poses, _) = circling(noise_cm, 0.0);
+            // The left foot's path: a still point plus white noise.
+            let path: Vec<DVec3> = (0..poses.frame_count()).map(|f| poses.at(f, 1)).collect();
+            let s = smoothing_samples(noise_cm, dt, target_cm_per_s);
+            let smoothed = crate::signal::smoothing::smooth_paths(&path, 1, s);
+            let velocities: Vec<f64> = smoothed.windows(2).map(|w| (w[1].x - w[0].x) / dt).collect();
+            let mean = velocities.iter().sum::<f64>() / velocities.len() as f64;
+            let deviation =
+                (velocities.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / velocities.len() as f64).sqrt();
+            assert!(
+                (deviation / target_cm_per_s - 1.0).abs() < 0.2,
+                "{noise_cm} cm smoothed over {s:.2} samples moves at {deviation:.2} cm/s, not {target_cm_per_s}"
+            );
+        }
     }
 }

@@ -5,8 +5,7 @@
 
 /// Parameters of the contact method. The defaults are physical quantities,
 /// not fitted to any recording.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(default)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct ContactParams {
     /// A sole point this high above the floor costs as much to pin as a
     /// velocity change of `slip_cm_per_s`: a sole's thickness plus the
@@ -135,6 +134,22 @@ impl ContactParams {
                 return Err(format!("the contact parameter {name} must be finite and {range}, not {value}"));
             }
         }
+        // The time scales are parts of a step, a stance or a flight: longer
+        // than a few seconds they would span the recording (and their counts
+        // of frames would overflow at high rates).
+        for (name, value) in [
+            ("cost_time_s", self.cost_time_s),
+            ("max_coast_s", self.max_coast_s),
+            ("jitter_s", self.jitter_s),
+            ("ballistic_evidence_s", self.ballistic_evidence_s),
+            ("max_noise_smoothing_s", self.max_noise_smoothing_s),
+        ] {
+            if value > MAX_TIME_SCALE_S {
+                return Err(format!(
+                    "the contact parameter {name} must be at most {MAX_TIME_SCALE_S} s, not {value}"
+                ));
+            }
+        }
         Ok(())
     }
 }
@@ -167,6 +182,9 @@ impl Default for ContactParams {
 /// skin, and a shoe adds up to 3 cm more.
 pub const SOLE_DEPTHS_CM: [f64; 7] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
 
+/// The longest any of the method's time scales may be (s).
+pub const MAX_TIME_SCALE_S: f64 = 5.0;
+
 /// The deepest sole that can be given (cm): a platform shoe's.
 pub const MAX_SOLE_DEPTH_CM: f64 = 20.0;
 
@@ -182,6 +200,7 @@ mod tests {
             ContactParams { cost_time_s: f64::NAN, ..ContactParams::default() },
             ContactParams { jitter_s: -0.01, ..ContactParams::default() },
             ContactParams { max_coast_s: f64::INFINITY, ..ContactParams::default() },
+            ContactParams { cost_time_s: 1.0e6, ..ContactParams::default() },
         ];
         for params in bad {
             assert!(params.check().is_err(), "{params:?}");
