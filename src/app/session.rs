@@ -5,7 +5,7 @@
 use crate::app::plot::{PlotData, Stance, StanceReason};
 use crate::body::feet::{Foot, PerFoot};
 use crate::error::Error;
-use crate::io::recording::{FeetChoice, Recording};
+use crate::io::recording::{FeetChoice, Recording, base_name};
 use crate::translate::contact::{ContactParams, Support};
 use crate::translate::paper::{PaperParams, Smoothing};
 use crate::translate::{Decisions, Method, Translated};
@@ -86,7 +86,7 @@ impl Session {
 
 /// `dir/heian.bvh` + `embusen.bvh` → `heian.embusen.bvh`.
 fn export_name(name: &str, suffix: &str) -> String {
-    let base = name.rsplit(['/', '\\']).next().unwrap_or(name);
+    let base = base_name(name);
     let stem = base.rsplit_once('.').map_or(base, |(stem, _)| stem);
     let stem = if stem.is_empty() || stem.contains(' ') { "recording" } else { stem };
     format!("{stem}.{suffix}")

@@ -21,7 +21,7 @@ use crate::body::skeleton::Poses;
 use crate::error::Error;
 use crate::eval::metrics::{final_floor_error_cm, floor_closure_cm, floor_path_cm, mean_floor_error_cm};
 use crate::io::bvh::Bvh;
-use crate::io::recording::{FeetChoice, Recording};
+use crate::io::recording::{FeetChoice, Recording, base_name, bvh_stem};
 use crate::translate::{Method, Translated};
 
 /// A foot is planted in the truth when its lowest point is within this
@@ -72,7 +72,7 @@ pub fn freeze_translation(bvh: &Bvh, hips: usize) -> Bvh {
 /// The motion type of a file, from its name: `bandai1_walk-right_normal_001`
 /// → `walk-right`; otherwise the name without its extension.
 pub fn motion_type(name: &str) -> String {
-    let stem = name.rsplit('/').next().unwrap_or(name).trim_end_matches(".bvh");
+    let stem = bvh_stem(name).unwrap_or_else(|| base_name(name));
     let parts: Vec<&str> = stem.split('_').collect();
     if parts.len() >= 3 { parts[1].to_string() } else { stem.to_string() }
 }
@@ -279,5 +279,7 @@ mod tests {
         assert_eq!(motion_type("bandai1_walk-right_normal_001.bvh"), "walk-right");
         assert_eq!(motion_type("dir/bandai1_dash_normal_001.bvh"), "dash");
         assert_eq!(motion_type("heian_nidan.bvh"), "heian_nidan");
+        // Whichever system the path came from, whatever the ending's case.
+        assert_eq!(motion_type("dir\\x_walk_y_001.BVH"), "walk");
     }
 }

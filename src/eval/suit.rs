@@ -13,6 +13,7 @@ use crate::eval::summary::{
 };
 use crate::eval::{SuitAccuracy, evaluate_suit};
 use crate::io::bvh::Bvh;
+use crate::io::recording::bvh_stem;
 use crate::signal::stats::median;
 use crate::translate::Method;
 use crate::translate::paper::PaperParams;
@@ -78,12 +79,7 @@ pub struct SuitSummary {
 /// The truth's name and the tag of a suit file's name:
 /// `dir/NAME.suit-TAG.bvh` → (`NAME`, `TAG`); `None` for any other name.
 pub fn suit_name_parts(file_name: &str) -> Option<(&str, &str)> {
-    let base = file_name.rsplit(['/', '\\']).next().unwrap_or(file_name);
-    let stem = base
-        .len()
-        .checked_sub(4)
-        .filter(|&n| base.is_char_boundary(n))
-        .and_then(|n| base[n..].eq_ignore_ascii_case(".bvh").then_some(&base[..n]))?;
+    let stem = bvh_stem(file_name)?;
     let (truth, tag) = stem.rsplit_once(SUIT_MARK)?;
     (!truth.is_empty() && !tag.is_empty()).then_some((truth, tag))
 }

@@ -68,6 +68,20 @@ pub struct FeetChoice {
     pub right: Option<String>,
 }
 
+/// The file name at the end of `path` as the user gave it (after the last
+/// `/` or `\`, whichever system it came from).
+pub fn base_name(path: &str) -> &str {
+    path.rsplit(['/', '\\']).next().unwrap_or(path)
+}
+
+/// `base_name(path)` without a `.bvh` ending (in any case); `None` for a
+/// name that has none.
+pub fn bvh_stem(path: &str) -> Option<&str> {
+    let base = base_name(path);
+    let n = base.len().checked_sub(4).filter(|&n| base.is_char_boundary(n))?;
+    base[n..].eq_ignore_ascii_case(".bvh").then_some(&base[..n])
+}
+
 /// True when the bytes look like a BVH file rather than a CSV table.
 pub fn looks_like_bvh(bytes: &[u8]) -> bool {
     let start = bytes.iter().position(|b| !b.is_ascii_whitespace()).unwrap_or(bytes.len());
