@@ -117,25 +117,14 @@ pub fn contact_translation(
     params: &ContactParams,
 ) -> Result<ContactResult, String> {
     let n = poses.frame_count();
-    if n == 0 {
-        return Err("the recording has no frames".into());
-    }
-    if !(fps.is_finite() && fps > 0.0) {
-        return Err(format!("the frame rate must be positive, not {fps}"));
-    }
+    check_input(poses, fps, params)?;
     let dt = 1.0 / fps;
-    params.check()?;
-    poses.check_positions()?;
     let step = grid::grid_step(fps, params.cost_time_s);
     let noise_cm = noise::pose_noise_cm(poses, feet, hips, step);
     let grid = Grid::new(n, fps, noise_cm, params);
     let motion = Motion {
         hips_to_com_cm: smooth_paths(&hips_to_com_cm(poses, parents, feet, hips), 1, grid.sigma_samples),
-        accel_off_g: PerFoot::from_fn(|foot| {
-            (0..n)
-                .map(|f| foot_accel_g.and_then(|a| a[foot].get(f).copied()).map(|a| (a - 1.0).abs()))
-                .collect()
-        }),
+        accel_off_g: accel_off_g(foot_accel_g, n),
         dt,
     };
     let shapes = foot_shapes(poses, parents, feet, hips);
@@ -172,6 +161,27 @@ pub fn contact_translation(
         pose_noise_cm: noise_cm,
         sole_depth_cm,
         warnings,
+    })
+}
+
+/// An error when there is nothing to translate, the rate is no rate, a
+/// parameter is out of its range, or a joint is no position.
+fn check_input(poses: &Poses, fps: f64, params: &ContactParams) -> Result<(), String> {
+    if poses.frame_count() == 0 {
+        return Err("the recording has no frames".into());
+    }
+    if !(fps.is_finite() && fps > 0.0) {
+        return Err(format!("the frame rate must be positive, not {fps}"));
+    }
+    params.check()?;
+    poses.check_positions()
+}
+
+/// Per foot and frame of `n`, how far its accelerometer reads from 1 g;
+/// `None` without a reading.
+fn accel_off_g(foot_accel_g: Option<PerFoot<&[f64]>>, n: usize) -> PerFoot<Vec<Option<f64>>> {
+    PerFoot::from_fn(|foot| {
+        (0..n).map(|f| foot_accel_g.and_then(|a| a[foot].get(f).copied()).map(|a| (a - 1.0).abs())).collect()
     })
 }
 
