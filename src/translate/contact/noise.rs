@@ -64,18 +64,10 @@ mod tests {
     use super::*;
 
     /// A foot circling the hips at `omega` rad/s, sampled at 30 fps, with
-    /// `noise` cm of pseudo-random white noise.
+    /// white Gaussian noise of deviation `noise` cm per axis.
     fn circling(noise: f64, omega: f64) -> (Poses, FootJoints) {
-        let mut seed = 12345u64;
-        let mut uniform = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
-        // Uniform on [-a, a] has deviation a / √3.
-        let mut jitter =
-            || DVec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5) * (2.0 * noise * 3f64.sqrt());
+        let mut rng = crate::synth::rng::XorShift64(12345);
+        let mut jitter = || DVec3::new(rng.gaussian(), rng.gaussian(), rng.gaussian()) * noise;
         let mut positions = Vec::new();
         for f in 0..600 {
             let t = f as f64 / 30.0;
