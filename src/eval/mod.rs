@@ -194,29 +194,31 @@ pub fn leg_length_cm(poses: &Poses, parents: &[Option<usize>], feet: FootJoints,
 /// estimates it, and compares the hips with the truth's.
 pub fn evaluate_suit(suit: &Bvh, truth: &Bvh, name: &str, method: &Method) -> Result<SuitAccuracy, Error> {
     let truth = Recording::from_bvh(truth.clone(), name);
-    let suit_recording = Recording::from_bvh(suit.clone(), name);
-    if suit_recording.joint_names != truth.joint_names {
+    // The suit's pose is read once, with its translation frozen: the legs'
+    // length and the checks do not depend on where the body is.
+    if suit.skeleton.names != truth.joint_names {
         return Err(Error::whole(
             name,
             "the suit file and its truth have different joints; they must be one skeleton",
         ));
     }
-    if suit_recording.frame_count() != truth.frame_count() {
+    if suit.motion.frame_count() != truth.frame_count() {
         return Err(Error::whole(
             name,
             format!(
                 "has {} frames but its truth has {}; they must be the same take",
-                suit_recording.frame_count(),
+                suit.motion.frame_count(),
                 truth.frame_count()
             ),
         ));
     }
-    if (suit_recording.fps - truth.fps).abs() > 1e-6 * truth.fps {
+    if (suit.motion.fps() - truth.fps).abs() > 1e-6 * truth.fps {
         return Err(Error::whole(
             name,
             format!(
                 "is at {} Hz but its truth at {} Hz; they must be the same take",
-                suit_recording.fps, truth.fps
+                suit.motion.fps(),
+                truth.fps
             ),
         ));
     }
@@ -232,8 +234,7 @@ pub fn evaluate_suit(suit: &Bvh, truth: &Bvh, name: &str, method: &Method) -> Re
     let frozen = Recording::from_bvh(freeze_translation(suit, hips), name);
     let estimated = frozen.translate(&FeetChoice::default(), method)?;
     let accuracy = accuracy(&estimated, &truth.poses, &truth.parents, truth.fps);
-    let leg_length_ratio =
-        leg_length_cm(&suit_recording.poses, &suit_recording.parents, feet, hips) / true_leg_cm;
+    let leg_length_ratio = leg_length_cm(&frozen.poses, &frozen.parents, feet, hips) / true_leg_cm;
     let true_hips = truth.poses.trajectory(hips);
     let start = true_hips.first().copied().unwrap_or(DVec3::ZERO);
     let oracle: Vec<DVec3> = true_hips.iter().map(|&p| start + (p - start) * leg_length_ratio).collect();
