@@ -5,6 +5,7 @@
 //! that the CLI, the tests and the wasm app share it:
 //! - [`signal`]: smoothing, accelerations, statistics of per-frame signals;
 //! - [`body`]: skeleton, forward kinematics, feet, soles;
+//! - [`camera`]: the camera that films the actor, its file and calibration;
 //! - [`io`]: BVH and table readers and writers, and the [`io::recording::Recording`] they make;
 //! - [`translate`]: the paper's method and embusen's contact method;
 //! - [`eval`]: both measured against recordings whose true motion is known;
@@ -14,6 +15,7 @@
 
 pub mod app;
 pub mod body;
+pub mod camera;
 pub mod error;
 pub mod eval;
 pub mod io;

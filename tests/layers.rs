@@ -10,8 +10,15 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// The layers, bottom first. A module may use the modules of lower layers.
-const LAYERS: [&[&str]; 7] =
-    [&["error", "signal"], &["body"], &["io"], &["translate", "synth"], &["eval"], &["app"], &["web"]];
+const LAYERS: [&[&str]; 7] = [
+    &["error", "signal"],
+    &["body", "camera"],
+    &["io"],
+    &["translate", "synth"],
+    &["eval"],
+    &["app"],
+    &["web"],
+];
 
 fn layer_of(module: &str) -> Option<usize> {
     LAYERS.iter().position(|layer| layer.contains(&module))

@@ -1,0 +1,17 @@
+//! The camera that films the actor: its model, how it is stored, and how it
+//! is calibrated. May import `signal` and `error`.
+//!
+//! Conventions, stated here once (they are OpenCV's, so that a calibration
+//! made with OpenCV and one made here are the same numbers):
+//! - **World**: the BVH world, Y up, cm, the floor at y = 0.
+//! - **Camera axes**: x right, y down, z forward along the optical axis;
+//!   `point_in_camera = camera_from_world · point_in_world`, in cm.
+//! - **Pixels**: (0, 0) is the *centre* of the top-left pixel, x right, y
+//!   down; a pixel `(u, v)` covers `[u − ½, u + ½) × [v − ½, v + ½)`.
+//! - **Lens**: OpenCV's distortion model with `k1, k2, p1, p2, k3` (radial
+//!   to r⁶, tangential), applied to the normalised image point `x/z, y/z`
+//!   before the focal lengths and principal point, as `cv2.projectPoints`.
+
+pub mod pinhole;
+
+pub use pinhole::{Camera, Distortion, ImageSize, Intrinsics};
