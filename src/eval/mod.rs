@@ -13,6 +13,7 @@ pub mod demo;
 pub mod metrics;
 pub mod suit;
 pub mod summary;
+pub mod track;
 
 use glam::DVec3;
 
