@@ -3,5 +3,7 @@
 //! prediction. May import `signal`, `error`, `image`,
 //! `body`, `camera`, `io` and `translate`.
 
+pub mod paper;
+pub mod search;
 pub mod smoother;
 pub mod suit_motion;
