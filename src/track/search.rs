@@ -33,7 +33,7 @@ pub fn coarse_to_fine(
     // The loop halves a finite positive spacing down to the resolution; the
     // cap only guards against a resolution of 0.
     for _ in 0..60 {
-        let Some((around, _)) = best else { return None };
+        let (around, _) = best?;
         if spacing <= resolution_cm {
             break;
         }
