@@ -11,7 +11,13 @@
 //! - **Lens**: OpenCV's distortion model with `k1, k2, p1, p2, k3` (radial
 //!   to r⁶, tangential), applied to the normalised image point `x/z, y/z`
 //!   before the focal lengths and principal point, as `cv2.projectPoints`.
+//! - **Rotations** in files are OpenCV's Rodrigues vectors (`rotation`).
+//!
+//! The camera is kept as `camera.json` (`json`: `Camera::from_json`,
+//! `Camera::to_json`).
 
+pub mod json;
 pub mod pinhole;
+pub mod rotation;
 
 pub use pinhole::{Camera, Distortion, ImageSize, Intrinsics};
