@@ -14,10 +14,13 @@
 //! - **Rotations** in files are OpenCV's Rodrigues vectors (`rotation`).
 //!
 //! The camera is kept as `camera.json` (`json`: `Camera::from_json`,
-//! `Camera::to_json`).
+//! `Camera::to_json`), and made by hand from four floor points
+//! (`floor_rectangle`) when there is no board.
 
+pub mod floor_rectangle;
 pub mod json;
 pub mod pinhole;
 pub mod rotation;
 
+pub use floor_rectangle::{FloorCalibration, FloorRectangle, FocalLength};
 pub use pinhole::{Camera, Distortion, ImageSize, Intrinsics};
