@@ -1,10 +1,15 @@
 //! Reading and writing recordings: BVH, RMoCap/Shadow tables and accelerometer
 //! side files, each error with its `file:line:column`, and the [`Recording`]
-//! they all become. May import `body` (the skeleton and poses a file holds),
-//! `signal` and `error`; nothing above.
+//! they all become; and the camera's pictures: PNG stills, image sequences and
+//! (native only) video through ffmpeg. May import `body` (the skeleton and
+//! poses a file holds), `image` (the grey images pictures become), `signal`
+//! and `error`; nothing above.
 //!
 //! [`Recording`]: recording::Recording
 
 pub mod bvh;
+pub mod image_file;
 pub mod recording;
 pub mod table;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod video;
