@@ -4,6 +4,7 @@
 //! `ARCHITECTURE.md`), and everything but `web` is free of browser code so
 //! that the CLI, the tests and the wasm app share it:
 //! - [`signal`]: smoothing, accelerations, statistics of per-frame signals;
+//! - [`image`]: grey images, background subtraction, Canny edges, distance transforms;
 //! - [`body`]: skeleton, forward kinematics, feet, soles;
 //! - [`camera`]: the camera that films the actor, its file and calibration;
 //! - [`io`]: BVH and table readers and writers, and the [`io::recording::Recording`] they make;
@@ -18,6 +19,7 @@ pub mod body;
 pub mod camera;
 pub mod error;
 pub mod eval;
+pub mod image;
 pub mod io;
 pub mod signal;
 pub mod synth;

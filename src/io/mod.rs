@@ -1,11 +1,16 @@
 //! Reading and writing recordings: BVH, RMoCap/Shadow tables, accelerometer
 //! side files and the hips path as CSV, each error with its `file:line:column`,
-//! and the [`Recording`] they all become. May import `body` (the skeleton and poses a file holds),
-//! `signal` and `error`; nothing above.
+//! and the [`Recording`] they all become; and the camera's pictures: PNG stills, image sequences and
+//! (native only) video through ffmpeg. May import `body` (the skeleton and
+//! poses a file holds), `image` (the grey images pictures become), `signal`
+//! and `error`; nothing above.
 //!
 //! [`Recording`]: recording::Recording
 
 pub mod bvh;
 pub mod hips_csv;
+pub mod image_file;
 pub mod recording;
 pub mod table;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod video;

@@ -1,0 +1,187 @@
+//! The three kinds of image the pipeline passes along: grey levels, masks
+//! and distances, each row-major with its size in pixels.
+
+use crate::error::Error;
+
+/// An 8-bit grey image: pixel `(x, y)` is `pixels[y · width_px + x]`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GreyImage {
+    pub width_px: u32,
+    pub height_px: u32,
+    pub pixels: Vec<u8>,
+}
+
+/// A binary image (foreground, edges): pixel `(x, y)` is on when
+/// `on[y · width_px + x]`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Mask {
+    pub width_px: u32,
+    pub height_px: u32,
+    pub on: Vec<bool>,
+}
+
+/// A distance in pixels per pixel (a distance transform): pixel `(x, y)` is
+/// `distance_px[y · width_px + x]`, `f32::INFINITY` where there was nothing
+/// to be near.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DistanceImage {
+    pub width_px: u32,
+    pub height_px: u32,
+    pub distance_px: Vec<f32>,
+}
+
+/// The pixel count of a `width_px × height_px` image, or an error for `label`
+/// when it is empty or too large to address.
+fn pixel_count(width_px: u32, height_px: u32, label: &str) -> Result<usize, Error> {
+    let count = (width_px as u64) * (height_px as u64);
+    // 2³¹ pixels bounds every index and every squared distance the
+    // transforms keep in 64-bit integers, on 32-bit wasm too.
+    if count == 0 || count > (1 << 31) {
+        return Err(Error::whole(label, format!("an image of {width_px}×{height_px} pixels cannot be used")));
+    }
+    Ok(count as usize)
+}
+
+impl GreyImage {
+    /// An image from its rows; an error for `label` when `pixels` does not
+    /// hold exactly `width_px × height_px` values or the size is empty.
+    pub fn new(width_px: u32, height_px: u32, pixels: Vec<u8>, label: &str) -> Result<Self, Error> {
+        let count = pixel_count(width_px, height_px, label)?;
+        if pixels.len() != count {
+            return Err(Error::whole(
+                label,
+                format!("{} grey values for a {width_px}×{height_px} image ({count} expected)", pixels.len()),
+            ));
+        }
+        Ok(GreyImage { width_px, height_px, pixels })
+    }
+
+    /// An image of one grey level.
+    pub fn filled(width_px: u32, height_px: u32, level: u8) -> Self {
+        GreyImage { width_px, height_px, pixels: vec![level; width_px as usize * height_px as usize] }
+    }
+
+    /// The grey level at `(x, y)`; the caller keeps `x`, `y` inside.
+    pub fn at(&self, x: u32, y: u32) -> u8 {
+        self.pixels[y as usize * self.width_px as usize + x as usize]
+    }
+
+    /// Whether `other` has this image's size.
+    pub fn same_size(&self, width_px: u32, height_px: u32) -> bool {
+        self.width_px == width_px && self.height_px == height_px
+    }
+
+    /// FNV-1a (64-bit) of the size and the pixels: a fingerprint to compare
+    /// images across builds (the wasm test holds the browser's to the CLI's).
+    pub fn digest(&self) -> u64 {
+        digest_of(self.width_px, self.height_px, self.pixels.iter().copied())
+    }
+}
+
+impl Mask {
+    /// A mask of nothing.
+    pub fn empty(width_px: u32, height_px: u32) -> Self {
+        Mask { width_px, height_px, on: vec![false; width_px as usize * height_px as usize] }
+    }
+
+    /// Whether `(x, y)` is on; the caller keeps `x`, `y` inside.
+    pub fn at(&self, x: u32, y: u32) -> bool {
+        self.on[y as usize * self.width_px as usize + x as usize]
+    }
+
+    /// How many pixels are on.
+    pub fn count(&self) -> usize {
+        self.on.iter().filter(|&&on| on).count()
+    }
+
+    /// The complement: on where this is off.
+    pub fn inverted(&self) -> Mask {
+        Mask {
+            width_px: self.width_px,
+            height_px: self.height_px,
+            on: self.on.iter().map(|&on| !on).collect(),
+        }
+    }
+
+    /// The mask as a grey image, 255 where on, 0 where off (to look at).
+    pub fn to_grey(&self) -> GreyImage {
+        GreyImage {
+            width_px: self.width_px,
+            height_px: self.height_px,
+            pixels: self.on.iter().map(|&on| if on { 255 } else { 0 }).collect(),
+        }
+    }
+
+    /// FNV-1a of the size and the pixels (1 on, 0 off), as [`GreyImage::digest`].
+    pub fn digest(&self) -> u64 {
+        digest_of(self.width_px, self.height_px, self.on.iter().map(|&on| on as u8))
+    }
+}
+
+impl DistanceImage {
+    /// The distance at `(x, y)`; the caller keeps `x`, `y` inside.
+    pub fn at(&self, x: u32, y: u32) -> f32 {
+        self.distance_px[y as usize * self.width_px as usize + x as usize]
+    }
+
+    /// The same distances, none above `max_px` (nor the infinity of an image
+    /// with nothing to be near): a chamfer energy over a truncated transform
+    /// is not ruled by one far outlier.
+    pub fn truncated(&self, max_px: f32) -> DistanceImage {
+        DistanceImage {
+            width_px: self.width_px,
+            height_px: self.height_px,
+            distance_px: self.distance_px.iter().map(|&d| d.min(max_px)).collect(),
+        }
+    }
+
+    /// FNV-1a of the size and each distance's IEEE bits (little-endian).
+    pub fn digest(&self) -> u64 {
+        digest_of(
+            self.width_px,
+            self.height_px,
+            self.distance_px.iter().flat_map(|d| d.to_bits().to_le_bytes()),
+        )
+    }
+}
+
+/// FNV-1a, 64-bit: small, fast enough, and the same on every target.
+pub fn fnv1a(bytes: impl IntoIterator<Item = u8>) -> u64 {
+    const OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+    bytes.into_iter().fold(OFFSET, |hash, byte| (hash ^ byte as u64).wrapping_mul(PRIME))
+}
+
+/// [`fnv1a`] of the size (two little-endian u32) then `bytes`.
+fn digest_of(width_px: u32, height_px: u32, bytes: impl Iterator<Item = u8>) -> u64 {
+    fnv1a(width_px.to_le_bytes().into_iter().chain(height_px.to_le_bytes()).chain(bytes))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_wrong_pixel_count_is_an_error_naming_the_image() {
+        let e = GreyImage::new(4, 3, vec![0; 11], "frame 7").unwrap_err();
+        assert!(e.to_string().starts_with("frame 7: 11 grey values for a 4×3 image"), "{e}");
+        assert!(GreyImage::new(0, 3, vec![], "empty").is_err());
+        assert_eq!(GreyImage::new(2, 2, vec![1, 2, 3, 4], "ok").unwrap().at(1, 1), 4);
+    }
+
+    #[test]
+    fn the_digest_is_fnv1a_and_sees_the_size() {
+        // The published FNV-1a 64 values of "" and "a".
+        assert_eq!(fnv1a([]), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a(*b"a"), 0xaf63_dc4c_8601_ec8c);
+        let a = GreyImage::filled(2, 3, 9);
+        let b = GreyImage::filled(3, 2, 9);
+        assert_ne!(a.digest(), b.digest());
+    }
+
+    #[test]
+    fn truncation_caps_infinity_too() {
+        let d = DistanceImage { width_px: 2, height_px: 1, distance_px: vec![1.5, f32::INFINITY] };
+        assert_eq!(d.truncated(1.0).distance_px, vec![1.0, 1.0]);
+    }
+}
