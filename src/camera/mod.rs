@@ -12,6 +12,8 @@
 //!   to r⁶, tangential), applied to the normalised image point `x/z, y/z`
 //!   before the focal lengths and principal point, as `cv2.projectPoints`.
 
+pub mod board;
+pub mod calibrate;
 pub mod pinhole;
 
 pub use pinhole::{Camera, Distortion, ImageSize, Intrinsics};
