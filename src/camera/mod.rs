@@ -14,6 +14,8 @@
 
 pub mod board;
 pub mod calibrate;
+#[cfg(feature = "board")]
+pub mod charuco;
 pub mod pinhole;
 
 pub use pinhole::{Camera, Distortion, ImageSize, Intrinsics};
