@@ -21,6 +21,7 @@ pub mod eval;
 pub mod io;
 pub mod signal;
 pub mod synth;
+pub mod track;
 pub mod translate;
 
 pub use error::Error;

@@ -10,11 +10,12 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// The layers, bottom first. A module may use the modules of lower layers.
-const LAYERS: [&[&str]; 7] = [
+const LAYERS: [&[&str]; 8] = [
     &["error", "signal"],
     &["body", "camera"],
     &["io"],
     &["translate", "synth"],
+    &["track"],
     &["eval"],
     &["app"],
     &["web"],

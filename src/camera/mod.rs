@@ -11,11 +11,22 @@
 //! - **Lens**: OpenCV's distortion model with `k1, k2, p1, p2, k3` (radial
 //!   to r⁶, tangential), applied to the normalised image point `x/z, y/z`
 //!   before the focal lengths and principal point, as `cv2.projectPoints`.
+//! - **Rotations** in files are OpenCV's Rodrigues vectors (`rotation`).
+//!
+//! The camera is kept as `camera.json` (`json`: `Camera::from_json`,
+//! `Camera::to_json`), calibrated from stills of a ChArUco board (`board`,
+//! its layout and file; `charuco`, finding it, feature `board`;
+//! `calibrate`, the camera from its corners), and made by hand from four
+//! floor points (`floor_rectangle`) when there is no board.
 
 pub mod board;
 pub mod calibrate;
 #[cfg(feature = "board")]
 pub mod charuco;
+pub mod floor_rectangle;
+pub mod json;
 pub mod pinhole;
+pub mod rotation;
 
+pub use floor_rectangle::{FloorCalibration, FloorRectangle, FocalLength};
 pub use pinhole::{Camera, Distortion, ImageSize, Intrinsics};

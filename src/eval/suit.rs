@@ -3,8 +3,9 @@
 //! inertial-suit error model (`TAG` is `l<level>-s<seed>`), each scored
 //! against its own truth. Beside both methods' figures stands the leg-length
 //! oracle (see [`SuitAccuracy`]), the floor a method without the true leg
-//! length cannot go below; medians per level and motion type, per level, and
-//! over all.
+//! length cannot go below, and the contacts oracle (the truth's own contact
+//! decisions on the suit's pose: how much error the pose itself carries);
+//! medians per level and motion type, per level, and over all.
 
 use crate::error::Error;
 use crate::eval::summary::{
@@ -39,6 +40,8 @@ pub struct SuitFileAccuracy {
     pub leg_oracle_mean_error_pct: f64,
     /// Suit leg length / true leg length.
     pub leg_length_ratio: f64,
+    /// See [`SuitAccuracy::contacts_oracle_mean_error_pct`].
+    pub contacts_oracle_mean_error_pct: f64,
 }
 
 /// Medians over a group of suit files: both methods' (see
@@ -49,6 +52,7 @@ pub struct SuitGroupMedians {
     pub methods: GroupMedians,
     pub leg_oracle_mean_error_pct: f64,
     pub leg_length_ratio: f64,
+    pub contacts_oracle_mean_error_pct: f64,
 }
 
 /// The medians of one level's files.
@@ -109,18 +113,21 @@ pub fn evaluate_suit_file(suit: &Bvh, truth: &Bvh, name: &str) -> Result<SuitFil
         level: suit_level(name),
         leg_oracle_mean_error_pct: contact.leg_oracle_mean_error_pct,
         leg_length_ratio: contact.leg_length_ratio,
+        contacts_oracle_mean_error_pct: contact.contacts_oracle_mean_error_pct,
     })
 }
 
 fn suit_group_medians(files: &[&SuitFileAccuracy]) -> SuitGroupMedians {
     let methods: Vec<&FileAccuracy> = files.iter().map(|f| &f.file).collect();
-    let oracle: Vec<f64> =
-        files.iter().filter(|f| is_moving(&f.file.contact)).map(|f| f.leg_oracle_mean_error_pct).collect();
+    let moving_median = |pct: fn(&SuitFileAccuracy) -> f64| {
+        median(&files.iter().filter(|f| is_moving(&f.file.contact)).map(|f| pct(f)).collect::<Vec<_>>())
+    };
     let ratios: Vec<f64> = files.iter().map(|f| f.leg_length_ratio).collect();
     SuitGroupMedians {
         methods: group_medians(&methods),
-        leg_oracle_mean_error_pct: median(&oracle),
+        leg_oracle_mean_error_pct: moving_median(|f| f.leg_oracle_mean_error_pct),
         leg_length_ratio: median(&ratios),
+        contacts_oracle_mean_error_pct: moving_median(|f| f.contacts_oracle_mean_error_pct),
     }
 }
 
@@ -158,23 +165,29 @@ pub fn summarise_suit(files: &[SuitFileAccuracy]) -> SuitSummary {
 pub fn format_suit_header() -> String {
     format!(
         "suit grade: the suit's translation frozen root→hips, re-estimated, compared with the true motion;\n\
-         oracle: the true path scaled by the suit/true leg-length ratio, the floor without the true legs\n\
-         {} | {:>8} {:>9}",
+         oracle: the true path scaled by the suit/true leg-length ratio, the floor without the true legs;\n\
+         contacts: the suit's pose pinned at the foot joint the truth holds still (the truth's own decisions)\n\
+         {} | {:>8} {:>9} {:>10}",
         format_columns(FILE_WIDTH),
         "oracle %",
-        "leg ratio"
+        "leg ratio",
+        "contacts %"
     )
 }
 
-/// The oracle's two columns, appended to a line of both methods' figures.
-fn oracle_columns(leg_oracle_mean_error_pct: f64, leg_length_ratio: f64) -> String {
-    format!(" | {leg_oracle_mean_error_pct:>8.2} {leg_length_ratio:>9.3}")
+/// The oracles' three columns, appended to a line of both methods' figures.
+fn oracle_columns(leg_oracle_mean_error_pct: f64, leg_length_ratio: f64, contacts_oracle_pct: f64) -> String {
+    format!(" | {leg_oracle_mean_error_pct:>8.2} {leg_length_ratio:>9.3} {contacts_oracle_pct:>10.2}")
 }
 
 /// A suit file's line of the table, without a line end.
 pub fn format_suit_file(file: &SuitFileAccuracy) -> String {
     format_file_line(FILE_WIDTH, &file.file)
-        + &oracle_columns(file.leg_oracle_mean_error_pct, file.leg_length_ratio)
+        + &oracle_columns(
+            file.leg_oracle_mean_error_pct,
+            file.leg_length_ratio,
+            file.contacts_oracle_mean_error_pct,
+        )
 }
 
 /// The summary's lines, each ending in a line end: per level a heading, a
@@ -184,7 +197,11 @@ pub fn format_suit_summary(summary: &SuitSummary) -> String {
     let group = |label: &str, g: &SuitGroupMedians| {
         let methods = &g.methods;
         format_line(FILE_WIDTH, label, &methods.file_count.to_string(), &methods.paper, &methods.contact)
-            + &oracle_columns(g.leg_oracle_mean_error_pct, g.leg_length_ratio)
+            + &oracle_columns(
+                g.leg_oracle_mean_error_pct,
+                g.leg_length_ratio,
+                g.contacts_oracle_mean_error_pct,
+            )
     };
     let mut text = MEDIANS_HEADING.to_string();
     for level in &summary.levels {
@@ -246,6 +263,7 @@ mod tests {
             level: suit_level(name),
             leg_oracle_mean_error_pct: oracle_pct,
             leg_length_ratio: 1.0 + oracle_pct / 100.0,
+            contacts_oracle_mean_error_pct: 2.0 * oracle_pct,
         }
     }
 

@@ -1,0 +1,64 @@
+//! How far a hips track is from the truth on the floor, frame by frame: the
+//! figures `embusen eval-track` prints per scene and as medians. The camera
+//! defines the world, so positions are compared as they are, not aligned at
+//! the start as a translation method's are.
+
+use glam::DVec2;
+
+use crate::signal::stats::{median, quantile};
+
+/// A frame farther than this from the truth (cm) is a frame the track lost:
+/// about a stride, a mistake any viewer of the video sees.
+pub const LOST_CM: f64 = 20.0;
+
+/// The horizontal hips error of a track against the truth (cm).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrackErrors {
+    pub mean_cm: f64,
+    pub median_cm: f64,
+    pub p90_cm: f64,
+    pub max_cm: f64,
+    /// At the last frame.
+    pub final_cm: f64,
+    /// The share of frames farther than [`LOST_CM`], 0 to 1.
+    pub lost_share: f64,
+}
+
+/// The errors of `track` against `truth`, floor positions (x, z, cm) per
+/// frame, over the frames both have; NaN figures when there are none.
+pub fn track_errors(track: &[DVec2], truth: &[DVec2]) -> TrackErrors {
+    let errors: Vec<f64> = track.iter().zip(truth).map(|(e, t)| (*e - *t).length()).collect();
+    let n = errors.len();
+    TrackErrors {
+        mean_cm: if n > 0 { errors.iter().sum::<f64>() / n as f64 } else { f64::NAN },
+        median_cm: median(&errors),
+        p90_cm: quantile(&errors, 0.9),
+        max_cm: errors.iter().copied().fold(f64::NAN, f64::max),
+        final_cm: errors.last().copied().unwrap_or(f64::NAN),
+        lost_share: if n > 0 {
+            errors.iter().filter(|&&e| e > LOST_CM).count() as f64 / n as f64
+        } else {
+            f64::NAN
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn errors_of_a_track_against_its_truth() {
+        let truth: Vec<DVec2> = (0..10).map(|i| DVec2::new(i as f64, 0.0)).collect();
+        let track: Vec<DVec2> =
+            truth.iter().enumerate().map(|(i, t)| *t + DVec2::new(0.0, 3.0 * i as f64)).collect();
+        let e = track_errors(&track, &truth);
+        assert_eq!(e.mean_cm, 13.5);
+        assert_eq!(e.max_cm, 27.0);
+        assert_eq!(e.final_cm, 27.0);
+        assert_eq!(e.median_cm, 13.5);
+        assert!((e.p90_cm - 24.3).abs() < 1e-12);
+        assert_eq!(e.lost_share, 0.3);
+        assert!(track_errors(&[], &[]).mean_cm.is_nan());
+    }
+}
