@@ -20,10 +20,11 @@
 //! minimiser) are written here rather than pulled in: the problems have at
 //! most a few dozen unknowns, and the core must build for wasm lean.
 
-use glam::{DAffine3, DMat3, DQuat, DVec2, DVec3};
+use glam::{DAffine3, DMat3, DVec2, DVec3};
 
 use super::board::{Board, BoardCorner};
 use super::pinhole::{Camera, Distortion, ImageSize, Intrinsics};
+use super::rotation::rotation_from_rodrigues;
 use crate::error::Error;
 
 /// The corners of one board found in one still.
@@ -239,7 +240,7 @@ impl Fit {
             .enumerate()
             .map(|(i, start)| {
                 let p = &params[lens + 6 * i..lens + 6 * i + 6];
-                let turn = DMat3::from_quat(DQuat::from_scaled_axis(DVec3::new(p[0], p[1], p[2])));
+                let turn = rotation_from_rodrigues(DVec3::new(p[0], p[1], p[2]));
                 DAffine3::from_mat3_translation(turn * start.matrix3, DVec3::new(p[3], p[4], p[5]))
             })
             .collect();
@@ -630,8 +631,8 @@ mod tests {
     }
 
     fn rotation_deg(a: &Camera, b: &Camera) -> f64 {
-        let r = a.camera_from_world.matrix3 * b.camera_from_world.matrix3.transpose();
-        ((r.x_axis.x + r.y_axis.y + r.z_axis.z - 1.0) / 2.0).clamp(-1.0, 1.0).acos().to_degrees()
+        crate::camera::rotation::angle_between(a.camera_from_world.matrix3, b.camera_from_world.matrix3)
+            .to_degrees()
     }
 
     #[test]
