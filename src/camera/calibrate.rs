@@ -120,7 +120,7 @@ pub fn calibrate_views(views: &[BoardView], size: ImageSize) -> Result<Vec<Calib
     let k = zhang_intrinsics(&homographies).ok_or_else(|| {
         Error::whole(
             views[0].file,
-            "the views do not determine the lens (too few, or all alike); give --intrinsics",
+            "the views do not determine one lens (too few, too alike, or from different cameras); give --intrinsics",
         )
     })?;
     let intrinsics = Intrinsics {
