@@ -14,9 +14,15 @@
 //! - **Rotations** in files are OpenCV's Rodrigues vectors (`rotation`).
 //!
 //! The camera is kept as `camera.json` (`json`: `Camera::from_json`,
-//! `Camera::to_json`), and made by hand from four floor points
-//! (`floor_rectangle`) when there is no board.
+//! `Camera::to_json`), calibrated from stills of a ChArUco board (`board`,
+//! its layout and file; `charuco`, finding it, feature `board`;
+//! `calibrate`, the camera from its corners), and made by hand from four
+//! floor points (`floor_rectangle`) when there is no board.
 
+pub mod board;
+pub mod calibrate;
+#[cfg(feature = "board")]
+pub mod charuco;
 pub mod floor_rectangle;
 pub mod json;
 pub mod pinhole;

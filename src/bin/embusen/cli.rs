@@ -1,5 +1,5 @@
-//! The `embusen` command line: `info`, `translate`, `eval`, and (with no
-//! arguments) a run on the built-in demo recording.
+//! The `embusen` command line: `info`, `translate`, `eval`, `calibrate`, and
+//! (with no arguments) a run on the built-in demo recording.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -28,6 +28,10 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// The camera from stills of a ChArUco board (its layout from BOARD.json
+    /// beside each still, or from flags), written as camera.json.
+    #[cfg(feature = "board")]
+    Calibrate(crate::calibrate::CalibrateArgs),
     /// Recompute the floor translation of recordings (BVH in → BVH out, table in → table out).
     Translate(TranslateArgs),
     /// Print joints, frames, rate, duration, detected feet and reader warnings.
@@ -124,6 +128,8 @@ pub fn main() -> ExitCode {
         None => run_demo(),
         Some(Command::Info { inputs, fps }) => run_info(&inputs, fps),
         Some(Command::Translate(args)) => run_translate(&args),
+        #[cfg(feature = "board")]
+        Some(Command::Calibrate(args)) => crate::calibrate::run(&args),
         Some(Command::Eval { inputs, closure, truth, pair }) => {
             run_eval(&inputs, &closure, truth.as_deref(), &pair)
         }

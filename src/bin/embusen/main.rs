@@ -2,6 +2,8 @@
 //! interface, but `cargo test --target wasm32-unknown-unknown` still builds
 //! every binary, so on wasm this is an empty program.
 
+#[cfg(all(not(target_arch = "wasm32"), feature = "board"))]
+mod calibrate;
 #[cfg(not(target_arch = "wasm32"))]
 mod cli;
 

@@ -1,0 +1,221 @@
+//! `embusen calibrate`: the camera from stills of a ChArUco board, written
+//! as `camera.json`.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use embusen::Error;
+use embusen::camera::board::Board;
+use embusen::camera::calibrate::{
+    BoardView, Calibration, LensFit, calibrate_one_view, calibrate_pose, calibrate_views,
+};
+use embusen::camera::charuco::{Detection, detect};
+use embusen::camera::rotation::rodrigues_from_rotation;
+use embusen::camera::{Camera, ImageSize};
+
+#[derive(clap::Args)]
+pub struct CalibrateArgs {
+    /// Stills of the board (PNG). With --intrinsics, one; without, one (the
+    /// principal point assumed at the image centre) or several views of the
+    /// board (Zhang's method; the camera written is posed at the first).
+    #[arg(required = true)]
+    stills: Vec<PathBuf>,
+    /// The camera's lens, from a camera.json: only the pose is fitted.
+    #[arg(long, value_name = "CAMERA.json")]
+    intrinsics: Option<PathBuf>,
+    /// Where to write the camera.json.
+    #[arg(short, long, value_name = "CAMERA.json")]
+    output: PathBuf,
+    /// The board's layout, when there is no BOARD.json beside a still
+    /// (`walk.board.png` → `walk.board.json`): its OpenCV dictionary.
+    #[arg(long, default_value = "DICT_4X4_50")]
+    dictionary: String,
+    /// Squares across × down, as OpenCV's CharucoBoard((x, y), …): e.g. 7x5.
+    #[arg(long, value_name = "XxY", value_parser = parse_squares)]
+    squares: Option<(u32, u32)>,
+    /// The side of a square (cm).
+    #[arg(long)]
+    square_cm: Option<f64>,
+    /// The side of a marker (cm).
+    #[arg(long)]
+    marker_cm: Option<f64>,
+    /// One still without --intrinsics: fit the radial k1 as well.
+    #[arg(long)]
+    fit_k1: bool,
+}
+
+fn parse_squares(text: &str) -> Result<(u32, u32), String> {
+    let (x, y) =
+        text.split_once(['x', 'X', '×']).ok_or_else(|| format!("expected XxY such as 7x5, not {text:?}"))?;
+    let number =
+        |s: &str| s.trim().parse::<u32>().map_err(|_| format!("expected XxY such as 7x5, not {text:?}"));
+    Ok((number(x)?, number(y)?))
+}
+
+pub fn run(args: &CalibrateArgs) -> ExitCode {
+    let flags = [args.squares.is_some(), args.square_cm.is_some(), args.marker_cm.is_some()];
+    if flags.iter().any(|f| *f) && !flags.iter().all(|f| *f) {
+        eprintln!("error: a board from flags needs --squares, --square-cm and --marker-cm together");
+        return ExitCode::from(2);
+    }
+    if args.intrinsics.is_some() && args.stills.len() > 1 {
+        eprintln!("error: with --intrinsics give one still: the camera written is posed at it");
+        return ExitCode::from(2);
+    }
+    match calibrate(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// A still, its board and the corners found in it.
+struct Seen {
+    name: String,
+    board: Board,
+    size: ImageSize,
+    detection: Detection,
+}
+
+fn calibrate(args: &CalibrateArgs) -> Result<(), Error> {
+    let lens = match &args.intrinsics {
+        Some(path) => {
+            let name = file_name(path);
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| Error::whole(&name, format!("cannot read: {e}")))?;
+            Some(Camera::from_json(&text, &name)?)
+        }
+        None => None,
+    };
+    let mut seen = Vec::new();
+    for still in &args.stills {
+        let name = file_name(still);
+        let board = board_for(still, args)?;
+        let (grey, size) = read_grey_png(still, &name)?;
+        let detection = detect(&board, &grey, size, &name)?;
+        println!(
+            "{name}: {} of {} corners found ({} markers decoded)",
+            detection.corners.len(),
+            board.corner_count(),
+            detection.markers
+        );
+        if let Some(first) = seen.first().map(|s: &Seen| s.size)
+            && first != size
+        {
+            return Err(Error::whole(
+                &name,
+                format!(
+                    "{}×{} px, but the first still is {}×{}",
+                    size.width_px, size.height_px, first.width_px, first.height_px
+                ),
+            ));
+        }
+        seen.push(Seen { name, board, size, detection });
+    }
+    let views: Vec<BoardView> = seen
+        .iter()
+        .map(|s| BoardView { file: &s.name, board: &s.board, corners: &s.detection.corners })
+        .collect();
+    let size = seen[0].size;
+    let fits = match &lens {
+        Some(lens) => {
+            if lens.image_size != size {
+                return Err(Error::whole(
+                    views[0].file,
+                    format!(
+                        "the still is {}×{} px, the intrinsics are for {}×{}",
+                        size.width_px, size.height_px, lens.image_size.width_px, lens.image_size.height_px
+                    ),
+                ));
+            }
+            vec![calibrate_pose(&views[0], lens)?]
+        }
+        None if views.len() == 1 => vec![calibrate_one_view(&views[0], size, LensFit { k1: args.fit_k1 })?],
+        None => calibrate_views(&views, size)?,
+    };
+    for (view, fit) in views.iter().zip(&fits) {
+        report(view.file, fit, lens.is_none());
+    }
+    let camera = &fits[0].camera;
+    let out = file_name(&args.output);
+    std::fs::write(&args.output, camera.to_json())
+        .map_err(|e| Error::whole(&out, format!("cannot write: {e}")))?;
+    println!("wrote {out}");
+    Ok(())
+}
+
+fn report(name: &str, fit: &Calibration, lens_fitted: bool) {
+    let c = fit.camera.center_in_world();
+    let r = rodrigues_from_rotation(fit.camera.camera_from_world.matrix3);
+    println!(
+        "{name}: reprojection error {:.3} px rms, {:.3} px max over {} corners",
+        fit.rms_px, fit.max_px, fit.corners
+    );
+    println!(
+        "  camera centre (world, cm): {:.2} {:.2} {:.2}; rvec {:.5} {:.5} {:.5}",
+        c.x, c.y, c.z, r.x, r.y, r.z
+    );
+    if lens_fitted {
+        let k = fit.camera.intrinsics;
+        let d = fit.camera.distortion;
+        println!(
+            "  lens: fx {:.2} fy {:.2} cx {:.2} cy {:.2} px; k1 {:.4} k2 {:.4}",
+            k.fx_px, k.fy_px, k.cx_px, k.cy_px, d.k1, d.k2
+        );
+    }
+}
+
+/// The still's board: from the flags when given, else `BOARD.json` beside
+/// it (`walk.board.png` → `walk.board.json`).
+fn board_for(still: &Path, args: &CalibrateArgs) -> Result<Board, Error> {
+    if let (Some((x, y)), Some(square_cm), Some(marker_cm)) = (args.squares, args.square_cm, args.marker_cm) {
+        return Board::on_floor(&args.dictionary, x, y, square_cm, marker_cm, "board flags");
+    }
+    let json = board_json_path(still);
+    let name = file_name(&json);
+    let text = std::fs::read_to_string(&json).map_err(|e| {
+        Error::whole(
+            &name,
+            format!("cannot read the board's layout ({e}); give --squares, --square-cm, --marker-cm (and --dictionary)"),
+        )
+    })?;
+    Board::from_json(&text, &name)
+}
+
+fn board_json_path(still: &Path) -> PathBuf {
+    let mut stem = still.as_os_str().to_owned();
+    if still.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
+        stem = still.with_extension("").into_os_string();
+    }
+    stem.push(".json");
+    PathBuf::from(stem)
+}
+
+fn file_name(path: &Path) -> String {
+    path.display().to_string()
+}
+
+/// The PNG at `path` as grey bytes (BT.601 luma of colour, as OpenCV's
+/// `cvtColor`; alpha ignored, 16-bit samples cut to 8).
+// Temporary: the image readers of `io` (branch image-pipeline) replace it.
+fn read_grey_png(path: &Path, name: &str) -> Result<(Vec<u8>, ImageSize), Error> {
+    let bad = |e: &dyn std::fmt::Display| Error::whole(name, format!("cannot read as PNG: {e}"));
+    let file = std::fs::File::open(path).map_err(|e| bad(&e))?;
+    let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
+    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+    let mut reader = decoder.read_info().map_err(|e| bad(&e))?;
+    let mut buffer = vec![0; reader.output_buffer_size().ok_or_else(|| bad(&"the image is too large"))?];
+    let info = reader.next_frame(&mut buffer).map_err(|e| bad(&e))?;
+    let channels = info.color_type.samples();
+    let pixels = (info.width as usize) * (info.height as usize);
+    let grey = buffer[..pixels * channels]
+        .chunks_exact(channels)
+        .map(|p| match channels {
+            1 | 2 => p[0],
+            _ => ((299 * p[0] as u32 + 587 * p[1] as u32 + 114 * p[2] as u32 + 500) / 1000) as u8,
+        })
+        .collect();
+    Ok((grey, ImageSize { width_px: info.width, height_px: info.height }))
+}
