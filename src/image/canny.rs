@@ -8,6 +8,7 @@
 //! through the exact response of this smoothing and Sobel to such a step, so
 //! that they keep their meaning whatever `sigma_px` is.
 
+use crate::image::grey::PixelBox;
 use crate::image::{GreyImage, Mask};
 
 /// Canny's settings.
@@ -57,19 +58,27 @@ fn half_kernel(sigma_px: f32) -> Vec<u32> {
 fn smoothed(image: &GreyImage, half: &[u32]) -> Vec<u32> {
     let (w, h) = (image.width_px as usize, image.height_px as usize);
     let r = half.len() - 1;
-    // Along the rows; values up to 255 · 256.
+    // Along the rows, each row first copied between r repeats of its end
+    // pixels so the taps need no bounds; values up to 255 · 256.
     let mut across = vec![0u32; w * h];
+    let mut padded = vec![0u32; w + 2 * r];
     for y in 0..h {
         let row = &image.pixels[y * w..(y + 1) * w];
+        for (p, &v) in padded[r..r + w].iter_mut().zip(row) {
+            *p = v as u32;
+        }
+        let (first, last) = (row[0] as u32, row[w - 1] as u32);
+        padded[..r].fill(first);
+        padded[r + w..].fill(last);
         let out = &mut across[y * w..(y + 1) * w];
-        for (x, out) in out.iter_mut().enumerate() {
-            let mut sum = half[0] * row[x] as u32;
-            for (i, &weight) in half.iter().enumerate().skip(1) {
-                let left = row[x.saturating_sub(i)] as u32;
-                let right = row[(x + i).min(w - 1)] as u32;
-                sum += weight * (left + right);
+        for (o, &c) in out.iter_mut().zip(&padded[r..r + w]) {
+            *o = half[0] * c;
+        }
+        for (i, &weight) in half.iter().enumerate().skip(1) {
+            let (left, right) = (&padded[r - i..r - i + w], &padded[r + i..r + i + w]);
+            for ((o, &a), &b) in out.iter_mut().zip(left).zip(right) {
+                *o += weight * (a + b);
             }
-            *out = sum;
         }
     }
     if r == 0 {
@@ -116,61 +125,53 @@ fn squared_response(step: f32, half: &[u32]) -> i64 {
 pub fn canny(image: &GreyImage, params: &CannyParams) -> Mask {
     let (w, h) = (image.width_px as usize, image.height_px as usize);
     let mut edges = Mask::empty(image.width_px, image.height_px);
-    let Some((x0, y0, x1, y1)) = nonzero_box(image) else { return edges };
+    let Some(nonzero) = PixelBox::around(&image.pixels, w, |&p| p != 0) else { return edges };
     let half = half_kernel(params.sigma_px);
-    let reach = half.len() - 1 + 2;
-    let (x0, y0) = (x0.saturating_sub(reach), y0.saturating_sub(reach));
-    let (x1, y1) = ((x1 + reach).min(w - 1), (y1 + reach).min(h - 1));
-    let (bw, bh) = (x1 - x0 + 1, y1 - y0 + 1);
-    let mut pixels = Vec::with_capacity(bw * bh);
-    for y in y0..=y1 {
-        pixels.extend_from_slice(&image.pixels[y * w + x0..=y * w + x1]);
-    }
-    let cropped = GreyImage { width_px: bw as u32, height_px: bh as u32, pixels };
+    let b = nonzero.grown(half.len() - 1 + 2, w, h);
+    let cropped = GreyImage {
+        width_px: b.width() as u32,
+        height_px: b.height() as u32,
+        pixels: b.crop(&image.pixels, w),
+    };
     let on = canny_whole(&cropped, &half, params);
-    for (y, row) in (y0..=y1).zip(on.chunks_exact(bw)) {
-        edges.on[y * w + x0..=y * w + x1].copy_from_slice(row);
+    for (row, inner) in b.rows(w).zip(on.chunks_exact(b.width())) {
+        edges.on[row].copy_from_slice(inner);
     }
     edges
-}
-
-/// The smallest box `(x0, y0, x1, y1)` (inclusive) holding every non-zero
-/// pixel; `None` for an image of zeros.
-fn nonzero_box(image: &GreyImage) -> Option<(usize, usize, usize, usize)> {
-    let w = image.width_px as usize;
-    let mut found: Option<(usize, usize, usize, usize)> = None;
-    for (y, row) in image.pixels.chunks_exact(w).enumerate() {
-        let Some(first) = row.iter().position(|&p| p != 0) else { continue };
-        let last = row.iter().rposition(|&p| p != 0).unwrap_or(first);
-        found = Some(match found {
-            None => (first, y, last, y),
-            Some((x0, y0, x1, _)) => (x0.min(first), y0, x1.max(last), y),
-        });
-    }
-    found
 }
 
 /// Canny over all of `image`, the border pixels repeated outwards.
 fn canny_whole(image: &GreyImage, half: &[u32], params: &CannyParams) -> Vec<bool> {
     let (w, h) = (image.width_px as usize, image.height_px as usize);
     let s = smoothed(image, half);
-    let at = |x: usize, y: usize| s[y * w + x] as i64;
-    // Sobel; gradients below 2³⁰, squares below 2⁶¹.
+    // Sobel, as its two separable halves a row at a time: `across` is the
+    // column sum [1 2 1] and `down` the column difference [−1 0 1] of the
+    // smoothed rows above and below; gradients below 2³⁰.
+    // The magnitudes (squared, below 2⁶¹) sit in a frame one pixel wider on
+    // every side, zero, so that thinning looks at neighbours without bounds.
+    let pw = w + 2;
     let mut gx = vec![0i32; w * h];
     let mut gy = vec![0i32; w * h];
-    let mut magnitude = vec![0i64; w * h];
+    let mut magnitude = vec![0i64; pw * (h + 2)];
+    let mut across = vec![0i32; w];
+    let mut down = vec![0i32; w];
     for y in 0..h {
-        let (up, down) = (y.saturating_sub(1), (y + 1).min(h - 1));
+        let (up, below) = (&s[y.saturating_sub(1) * w..][..w], &s[(y + 1).min(h - 1) * w..][..w]);
+        let centre = &s[y * w..(y + 1) * w];
+        for (((a, d), (&u, &c)), &b) in
+            across.iter_mut().zip(down.iter_mut()).zip(up.iter().zip(centre)).zip(below)
+        {
+            *a = (u + 2 * c + b) as i32;
+            *d = b as i32 - u as i32;
+        }
         for x in 0..w {
             let (left, right) = (x.saturating_sub(1), (x + 1).min(w - 1));
-            let dx = (at(right, up) + 2 * at(right, y) + at(right, down))
-                - (at(left, up) + 2 * at(left, y) + at(left, down));
-            let dy = (at(left, down) + 2 * at(x, down) + at(right, down))
-                - (at(left, up) + 2 * at(x, up) + at(right, up));
+            let dx = across[right] - across[left];
+            let dy = down[left] + 2 * down[x] + down[right];
             let i = y * w + x;
-            gx[i] = dx as i32;
-            gy[i] = dy as i32;
-            magnitude[i] = dx * dx + dy * dy;
+            gx[i] = dx;
+            gy[i] = dy;
+            magnitude[(y + 1) * pw + x + 1] = dx as i64 * dx as i64 + dy as i64 * dy as i64;
         }
     }
     let low = squared_response(params.low_step, half);
@@ -186,30 +187,24 @@ fn canny_whole(image: &GreyImage, half: &[u32], params: &CannyParams) -> Vec<boo
     for y in 0..h {
         for x in 0..w {
             let i = y * w + x;
-            let m = magnitude[i];
+            let at = (y + 1) * pw + x + 1;
+            let m = magnitude[at];
             if m <= low {
                 continue;
             }
             let (dx, dy) = (gx[i] as i64, gy[i] as i64);
             let (ax, ay) = (dx.abs(), dy.abs());
-            let m_at = |ox: isize, oy: isize| {
-                let (nx, ny) = (x as isize + ox, y as isize + oy);
-                if nx < 0 || ny < 0 || nx >= w as isize || ny >= h as isize {
-                    0
-                } else {
-                    magnitude[ny as usize * w + nx as usize]
-                }
-            };
+            // The neighbours before and after along the gradient.
             let (before, after) = if ay * 65536 <= TAN_22_5_Q16 * ax {
-                (m_at(-1, 0), m_at(1, 0))
+                (at - 1, at + 1)
             } else if ax * 65536 <= TAN_22_5_Q16 * ay {
-                (m_at(0, -1), m_at(0, 1))
+                (at - pw, at + pw)
             } else if (dx > 0) == (dy > 0) {
-                (m_at(-1, -1), m_at(1, 1))
+                (at - pw - 1, at + pw + 1)
             } else {
-                (m_at(1, -1), m_at(-1, 1))
+                (at - pw + 1, at + pw - 1)
             };
-            if m > before && m >= after {
+            if m > magnitude[before] && m >= magnitude[after] {
                 if m > high {
                     class[i] = STRONG;
                     stack.push(i);

@@ -11,6 +11,7 @@
 //! target; only the final square root is floating point, and IEEE rounds it
 //! correctly everywhere.
 
+use crate::image::grey::PixelBox;
 use crate::image::{DistanceImage, Mask};
 
 /// The squared distance of a pixel with nothing on in its whole image.
@@ -89,6 +90,33 @@ fn floor_div(num: i64, den: i64) -> i64 {
         q += 1;
     }
     q
+}
+
+/// [`distance_to`] capped at `max_px` (nothing on at all: `max_px`
+/// everywhere), the same values as `distance_to(mask).truncated(max_px)`
+/// but computed on the box round the on pixels grown by `max_px` only:
+/// every on pixel is inside it, so the distances there are exact, and
+/// every pixel outside is farther than `max_px` from all of them. For an
+/// actor a fifth of the frame wide and a cap of tens of pixels, a few times
+/// less work.
+pub fn distance_to_truncated(mask: &Mask, max_px: f32) -> DistanceImage {
+    let (w, h) = (mask.width_px as usize, mask.height_px as usize);
+    let max_px = if max_px.is_nan() { 0.0 } else { max_px.max(0.0) };
+    let mut out = DistanceImage {
+        width_px: mask.width_px,
+        height_px: mask.height_px,
+        distance_px: vec![max_px; w * h],
+    };
+    let Some(on_box) = PixelBox::around(&mask.on, w, |&on| on) else { return out };
+    let b = on_box.grown(libm::ceilf(max_px).min((w + h) as f32) as usize, w, h);
+    let inner = Mask { width_px: b.width() as u32, height_px: b.height() as u32, on: b.crop(&mask.on, w) };
+    let inner = distance_to(&inner);
+    for (row, inner) in b.rows(w).zip(inner.distance_px.chunks_exact(b.width())) {
+        for (o, &d) in out.distance_px[row].iter_mut().zip(inner) {
+            *o = d.min(max_px);
+        }
+    }
+    out
 }
 
 /// The working memory of one row's envelope, kept across rows.

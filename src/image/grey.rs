@@ -66,7 +66,7 @@ impl GreyImage {
         self.pixels[y as usize * self.width_px as usize + x as usize]
     }
 
-    /// Whether `other` has this image's size.
+    /// Whether the image is `width_px × height_px`.
     pub fn same_size(&self, width_px: u32, height_px: u32) -> bool {
         self.width_px == width_px && self.height_px == height_px
     }
@@ -142,6 +142,65 @@ impl DistanceImage {
             self.height_px,
             self.distance_px.iter().flat_map(|d| d.to_bits().to_le_bytes()),
         )
+    }
+}
+
+/// A box of pixels, its corners inclusive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct PixelBox {
+    pub x0: usize,
+    pub y0: usize,
+    pub x1: usize,
+    pub y1: usize,
+}
+
+impl PixelBox {
+    /// The smallest box holding every value of the row-major `values`
+    /// (`width` a row) for which `is_on` holds; `None` when there is none.
+    pub fn around<T>(values: &[T], width: usize, is_on: impl Fn(&T) -> bool) -> Option<PixelBox> {
+        let mut found: Option<PixelBox> = None;
+        for (y, row) in values.chunks_exact(width).enumerate() {
+            let Some(first) = row.iter().position(&is_on) else { continue };
+            let last = row.iter().rposition(&is_on).unwrap_or(first);
+            found = Some(match found {
+                None => PixelBox { x0: first, y0: y, x1: last, y1: y },
+                Some(b) => PixelBox { x0: b.x0.min(first), x1: b.x1.max(last), y1: y, ..b },
+            });
+        }
+        found
+    }
+
+    /// The box grown by `by` on every side, within a `width × height` image.
+    pub fn grown(self, by: usize, width: usize, height: usize) -> PixelBox {
+        PixelBox {
+            x0: self.x0.saturating_sub(by),
+            y0: self.y0.saturating_sub(by),
+            x1: (self.x1 + by).min(width - 1),
+            y1: (self.y1 + by).min(height - 1),
+        }
+    }
+
+    pub fn width(&self) -> usize {
+        self.x1 - self.x0 + 1
+    }
+
+    pub fn height(&self) -> usize {
+        self.y1 - self.y0 + 1
+    }
+
+    /// The rows of the box, each as the range of its values in a row-major
+    /// image `width` wide.
+    pub fn rows(self, width: usize) -> impl Iterator<Item = std::ops::Range<usize>> {
+        (self.y0..=self.y1).map(move |y| y * width + self.x0..y * width + self.x1 + 1)
+    }
+
+    /// The values of the box, row-major.
+    pub fn crop<T: Copy>(self, values: &[T], width: usize) -> Vec<T> {
+        let mut out = Vec::with_capacity(self.width() * self.height());
+        for row in self.rows(width) {
+            out.extend_from_slice(&values[row]);
+        }
+        out
     }
 }
 

@@ -6,18 +6,19 @@
 use crate::error::Error;
 use crate::image::background::{Threshold, difference, foreground, noise_sd};
 use crate::image::canny::{CannyParams, canny};
-use crate::image::distance::distance_to;
-use crate::image::morphology::{close, open};
+use crate::image::distance::{distance_to, distance_to_truncated};
+use crate::image::morphology::open_close;
 use crate::image::{DistanceImage, GreyImage, Mask};
 
 /// Which image Canny looks at.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum EdgesOf {
-    /// The difference image, zero below the threshold (the paper's): the
-    /// mask's outline and the strong changes inside it (a limb across the
-    /// body).
+    /// The difference image, zero off the foreground (the paper's): the
+    /// mask's outline and, inside it, wherever the difference changes by a
+    /// step (a limb across the body, but also the room's own pattern behind
+    /// a plain body).
     #[default]
-    Foreground,
+    Difference,
     /// The mask alone: its outline only.
     Mask,
 }
@@ -40,6 +41,11 @@ pub struct PipelineParams {
     /// step from 0 to above the threshold) is always an edge and the
     /// detector is as sensitive as the threshold, in any light.
     pub canny_steps: Option<(f32, f32)>,
+    /// `None`: the distance transforms exact everywhere (the paper's
+    /// chamfer sums distances however far). `Some(max_px)`: capped at
+    /// `max_px`, and computed only near the foreground, a few times faster
+    /// (see `distance::distance_to_truncated`).
+    pub truncate_px: Option<f32>,
 }
 
 impl Default for PipelineParams {
@@ -56,6 +62,7 @@ impl Default for PipelineParams {
             // rounding off a limb a few pixels wide.
             canny_sigma_px: 1.0,
             canny_steps: None,
+            truncate_px: None,
         }
     }
 }
@@ -73,25 +80,25 @@ pub struct Features {
     pub foreground: Mask,
     /// Canny's edges (of [`PipelineParams::edges_of`]).
     pub edges: Mask,
-    /// Distance (px) from each pixel to the nearest edge pixel.
+    /// Distance (px) from each pixel to the nearest edge pixel (capped at
+    /// [`PipelineParams::truncate_px`]).
     pub edge_distance: DistanceImage,
     /// Distance (px) from each pixel to the nearest foreground pixel: 0 on
     /// the foreground, how far outside it elsewhere (the cost of a body's
-    /// silhouette pixel where the camera saw only the room).
+    /// silhouette pixel where the camera saw only the room; capped too).
     pub outside_distance: DistanceImage,
 }
 
 /// The thresholded pixels opened then closed as `params` say.
 pub fn clean_mask(raw: &Mask, params: &PipelineParams) -> Mask {
-    let opened = if params.open_px > 0 { open(raw, params.open_px) } else { raw.clone() };
-    if params.close_px > 0 { close(&opened, params.close_px) } else { opened }
+    open_close(raw, params.open_px, params.close_px)
 }
 
 /// What Canny looks at: the difference where it is foreground, 0 elsewhere
 /// (or 255 and 0 for [`EdgesOf::Mask`]).
 pub fn canny_input(difference: &GreyImage, foreground: &Mask, edges_of: EdgesOf) -> GreyImage {
     let pixels = match edges_of {
-        EdgesOf::Foreground => {
+        EdgesOf::Difference => {
             difference.pixels.iter().zip(&foreground.on).map(|(&d, &on)| if on { d } else { 0 }).collect()
         }
         EdgesOf::Mask => return foreground.to_grey(),
@@ -115,8 +122,12 @@ pub fn features(
         params.canny_steps.unwrap_or((threshold_level as f32 / 2.0, threshold_level as f32));
     let canny_params = CannyParams { sigma_px: params.canny_sigma_px, low_step, high_step };
     let edges = canny(&canny_input(&difference, &foreground, params.edges_of), &canny_params);
-    let edge_distance = distance_to(&edges);
-    let outside_distance = distance_to(&foreground);
+    let distance = |mask: &Mask| match params.truncate_px {
+        None => distance_to(mask),
+        Some(max_px) => distance_to_truncated(mask, max_px),
+    };
+    let edge_distance = distance(&edges);
+    let outside_distance = distance(&foreground);
     Ok(Features { difference, noise_sd, threshold_level, foreground, edges, edge_distance, outside_distance })
 }
 
