@@ -49,6 +49,15 @@ ensure_chromium() {
     fi
 }
 
+# The CLI and the tests read video through ffmpeg and ffprobe.
+ensure_ffmpeg() {
+    if ! command -v ffmpeg >/dev/null || ! command -v ffprobe >/dev/null; then
+        echo "installing Debian's ffmpeg" >&2
+        apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq ffmpeg >/dev/null
+    fi
+}
+
 # --- building ------------------------------------------------------------------
 
 cmd_build() {
@@ -78,6 +87,7 @@ cmd_serve() {
 
 cmd_test() {
     ensure_rust
+    ensure_ffmpeg
     cargo fmt --check
     cargo clippy --all-targets --quiet -- -D warnings
     cargo clippy --lib --target "$WASM_TARGET" --quiet -- -D warnings
@@ -87,12 +97,14 @@ cmd_test() {
     node_modules/.bin/tsc -p tsconfig.json
     ensure_chromium
     CHROMEDRIVER=/usr/bin/chromedriver WASM_BINDGEN_TEST_TIMEOUT=120 \
-        cargo test --release --target "$WASM_TARGET" --test wasm
+        cargo test --release --target "$WASM_TARGET" --test wasm --test image
     node --test tests/browser/app.test.mjs
 }
 
 cmd_bench() {
+    ensure_ffmpeg
     cargo bench --bench core
+    cargo bench --bench image
     cmd_build
     ensure_chromium
     node tests/browser/bench.mjs

@@ -1,6 +1,8 @@
 //! Shared helpers for the integration tests.
 #![allow(dead_code)]
 
+pub mod image_scene;
+
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
