@@ -184,20 +184,25 @@ mod tests {
         Mask { width_px: mask.width_px, height_px: mask.height_px, on }
     }
 
+    /// A `w × h` mask with about `percent` % on, from the xorshift `state`.
+    fn random_mask(state: &mut u64, w: u32, h: u32, percent: u64) -> Mask {
+        let on = (0..w * h)
+            .map(|_| {
+                *state ^= *state << 13;
+                *state ^= *state >> 7;
+                *state ^= *state << 17;
+                *state % 100 < percent
+            })
+            .collect();
+        Mask { width_px: w, height_px: h, on }
+    }
+
     #[test]
     fn the_word_at_a_time_passes_are_the_naive_ones() {
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
         for case in 0..200u32 {
             let (w, h) = (1 + case % 23, 1 + (case / 3) % 11);
-            let on = (0..w * h)
-                .map(|_| {
-                    state ^= state << 13;
-                    state ^= state >> 7;
-                    state ^= state << 17;
-                    state % 100 < 20 + (case as u64 % 60)
-                })
-                .collect();
-            let mask = Mask { width_px: w, height_px: h, on };
+            let mask = random_mask(&mut state, w, h, 20 + (case as u64 % 60));
             for r in 1..=3 {
                 assert_eq!(dilate(&mask, r), naive(&mask, r as i64, true), "case {case} ({w}×{h}), r = {r}");
                 assert_eq!(erode(&mask, r), naive(&mask, r as i64, false), "case {case} ({w}×{h}), r = {r}");
@@ -210,15 +215,7 @@ mod tests {
         let mut state = 0x2545_f491_4f6c_dd1du64;
         for case in 0..300u32 {
             let (w, h) = (1 + case % 37, 1 + (case / 5) % 29);
-            let on = (0..w * h)
-                .map(|_| {
-                    state ^= state << 13;
-                    state ^= state >> 7;
-                    state ^= state << 17;
-                    state % 100 < 5 + (case as u64 % 70)
-                })
-                .collect();
-            let mask = Mask { width_px: w, height_px: h, on };
+            let mask = random_mask(&mut state, w, h, 5 + (case as u64 % 70));
             for (open_px, close_px) in [(1, 2), (0, 1), (2, 0), (1, 1), (0, 0)] {
                 let whole = erode(&dilate(&dilate(&erode(&mask, open_px), open_px), close_px), close_px);
                 assert_eq!(
