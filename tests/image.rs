@@ -126,12 +126,12 @@ fn the_stage_times_in_the_browser() {
 mod native {
     use std::path::{Path, PathBuf};
 
-    use embusen::camera::{Camera, Distortion, ImageSize, Intrinsics};
+    use embusen::camera::Camera;
     use embusen::image::pipeline::{PipelineParams, features};
     use embusen::image::{GreyImage, background};
     use embusen::io::image_file::{ImageSequence, open_png_grey, png_to_grey};
     use embusen::io::video::{Ffmpeg, sample_frames};
-    use glam::{DAffine3, DMat3, DVec2, DVec3};
+    use glam::{DVec2, DVec3};
 
     /// A fresh scratch folder under the target directory.
     fn scratch(name: &str) -> PathBuf {
@@ -258,34 +258,7 @@ mod native {
 
     /// A shared scene's true camera, read from its `camera.json`.
     fn true_camera(path: &Path) -> Camera {
-        let json: serde_json::Value = serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap();
-        let number = |v: &serde_json::Value| v.as_f64().unwrap();
-        let k = &json["K"];
-        let d = &json["dist"];
-        let m = &json["camera_from_world"];
-        let row = |i: usize| DVec3::new(number(&m[i][0]), number(&m[i][1]), number(&m[i][2]));
-        let rotation = DMat3::from_cols(row(0), row(1), row(2)).transpose();
-        let translation = DVec3::new(number(&m[0][3]), number(&m[1][3]), number(&m[2][3]));
-        Camera {
-            image_size: ImageSize {
-                width_px: json["image_size"]["width"].as_u64().unwrap() as u32,
-                height_px: json["image_size"]["height"].as_u64().unwrap() as u32,
-            },
-            intrinsics: Intrinsics {
-                fx_px: number(&k[0][0]),
-                fy_px: number(&k[1][1]),
-                cx_px: number(&k[0][2]),
-                cy_px: number(&k[1][2]),
-            },
-            distortion: Distortion {
-                k1: number(&d["k1"]),
-                k2: number(&d["k2"]),
-                p1: number(&d["p1"]),
-                p2: number(&d["p2"]),
-                k3: number(&d["k3"]),
-            },
-            camera_from_world: DAffine3::from_mat3_translation(rotation, translation),
-        }
+        Camera::from_json(&std::fs::read_to_string(path).unwrap(), &path.display().to_string()).unwrap()
     }
 
     /// The true hips (cm, world) per video frame.
