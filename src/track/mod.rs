@@ -4,8 +4,10 @@
 //! the camera sees it, on the CPU. May import `signal`, `error`, `image`,
 //! `body`, `camera`, `io` and `translate`.
 
+pub mod energy;
 pub mod paper;
 pub mod search;
 pub mod silhouette;
 pub mod smoother;
 pub mod suit_motion;
+pub mod tracker;

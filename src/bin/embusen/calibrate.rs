@@ -167,12 +167,33 @@ fn report(name: &str, fit: &Calibration, lens_fitted: bool) {
     }
 }
 
+/// The camera from one still of a board whose layout is in `BOARD.json`
+/// beside it: posed with `lens`, or with the focal length estimated (the
+/// principal point at the image's centre) without one.
+pub fn camera_from_still(still: &Path, lens: Option<&Camera>) -> Result<Camera, Error> {
+    let name = file_name(still);
+    let board = board_beside(still)?;
+    let (grey, size) = read_grey_png(still, &name)?;
+    let detection = detect(&board, &grey, size, &name)?;
+    let view = BoardView { file: &name, board: &board, corners: &detection.corners };
+    let fit = match lens {
+        Some(lens) => calibrate_pose(&view, lens)?,
+        None => calibrate_one_view(&view, size, LensFit { k1: false })?,
+    };
+    Ok(fit.camera)
+}
+
 /// The still's board: from the flags when given, else `BOARD.json` beside
 /// it (`walk.board.png` → `walk.board.json`).
 fn board_for(still: &Path, args: &CalibrateArgs) -> Result<Board, Error> {
     if let (Some((x, y)), Some(square_cm), Some(marker_cm)) = (args.squares, args.square_cm, args.marker_cm) {
         return Board::on_floor(&args.dictionary, x, y, square_cm, marker_cm, "board flags");
     }
+    board_beside(still)
+}
+
+/// The board of `BOARD.json` beside a still.
+fn board_beside(still: &Path) -> Result<Board, Error> {
     let json = board_json_path(still);
     let name = file_name(&json);
     let text = std::fs::read_to_string(&json).map_err(|e| {

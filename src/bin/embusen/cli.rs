@@ -32,6 +32,13 @@ enum Command {
     /// beside each still, or from flags), written as camera.json.
     #[cfg(feature = "board")]
     Calibrate(crate::calibrate::CalibrateArgs),
+    /// Track the actor on the floor from a video and the suit's BVH of the
+    /// same take, with a calibrated camera: writes the corrected BVH and the
+    /// hips track (CSV, with the camera's confidence per frame).
+    Track(crate::track::TrackArgs),
+    /// Measure the trackers on scenes whose true hips path is known: per
+    /// scene and as medians, the suit's own translation, `paper` and `fused`.
+    EvalTrack(crate::track::EvalTrackArgs),
     /// Recompute the floor translation of recordings (BVH in → BVH out, table in → table out).
     Translate(TranslateArgs),
     /// Print joints, frames, rate, duration, detected feet and reader warnings.
@@ -130,6 +137,8 @@ pub fn main() -> ExitCode {
         Some(Command::Translate(args)) => run_translate(&args),
         #[cfg(feature = "board")]
         Some(Command::Calibrate(args)) => crate::calibrate::run(&args),
+        Some(Command::Track(args)) => crate::track::run_track(&args),
+        Some(Command::EvalTrack(args)) => crate::track::run_eval_track(&args),
         Some(Command::Eval { inputs, closure, truth, pair }) => {
             run_eval(&inputs, &closure, truth.as_deref(), &pair)
         }

@@ -1,0 +1,534 @@
+//! `embusen track` and `embusen eval-track`: where the actor is, from a
+//! video of the suit session and a calibrated camera.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use embusen::Error;
+use embusen::body::shape::BodyShape;
+use embusen::camera::Camera;
+use embusen::eval::track::{TrackErrors, track_errors};
+use embusen::image::GreyImage;
+use embusen::image::background::median_background;
+use embusen::image::pipeline::PipelineParams;
+use embusen::io::hips_csv::{HipsSample, format_hips_csv, parse_hips_csv};
+use embusen::io::image_file::{ImageSequence, open_png_grey};
+use embusen::io::recording::Recording;
+use embusen::io::video::{Ffmpeg, VideoFrames, sample_frames};
+use embusen::signal::stats::median;
+use embusen::track::paper::PaperTrackParams;
+use embusen::track::suit_motion::{SuitMotion, VideoTiming};
+use embusen::track::tracker::{FusedParams, Track, TrackMethod, TrackSetup, Tracker};
+use glam::{DVec2, DVec3};
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum TrackMethodArg {
+    /// embusen's: the suit's motion predicts, the camera corrects, a
+    /// forward–backward smoother weighs both.
+    Fused,
+    /// Riečický et al.'s, as published: 25 positions around the last, 10 cm apart.
+    Paper,
+}
+
+impl TrackMethodArg {
+    fn method(self) -> TrackMethod {
+        match self {
+            TrackMethodArg::Fused => TrackMethod::Fused(FusedParams::default()),
+            TrackMethodArg::Paper => TrackMethod::Paper(PaperTrackParams::default()),
+        }
+    }
+}
+
+#[derive(clap::Args)]
+pub struct TrackArgs {
+    /// The video (anything ffmpeg reads), or a folder of PNG frames (with --fps).
+    video: PathBuf,
+    /// The suit's recording of the same take.
+    #[arg(long)]
+    bvh: PathBuf,
+    /// The calibrated camera (camera.json).
+    #[arg(long, required_unless_present = "board", conflicts_with = "board")]
+    camera: Option<PathBuf>,
+    /// A still of the ChArUco board on the floor (its layout in BOARD.json
+    /// beside it): the camera is calibrated from it.
+    #[arg(long, value_name = "BOARD.png")]
+    board: Option<PathBuf>,
+    /// With --board: the lens (camera.json) to pose; without, the focal
+    /// length is estimated from the still.
+    #[arg(long, requires = "board", value_name = "CAMERA.json")]
+    intrinsics: Option<PathBuf>,
+    /// A still of the empty room; without it, the per-pixel median of frames
+    /// spread over the video.
+    #[arg(long, value_name = "BG.png")]
+    background: Option<PathBuf>,
+    #[arg(long, value_enum, default_value = "fused")]
+    method: TrackMethodArg,
+    /// How far the BVH's clock runs ahead of the video's (s).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    offset_s: f64,
+    /// Frame rate of a folder of PNG frames.
+    #[arg(long)]
+    fps: Option<f64>,
+    /// The corrected BVH; the hips track goes beside it as `OUT.track.csv`.
+    #[arg(short, long, value_name = "OUT.bvh")]
+    output: PathBuf,
+}
+
+#[derive(clap::Args)]
+pub struct EvalTrackArgs {
+    /// Folders of scenes: each `NAME.truth.csv` with `NAME.suit.bvh`,
+    /// `NAME.camera.json`, `NAME.mp4` (or `.webm`), and `NAME.background.png`
+    /// and `NAME.board.png` when there are.
+    #[arg(required = true)]
+    dirs: Vec<PathBuf>,
+    /// Calibrate each scene's camera from its `NAME.board.png` (with the
+    /// true lens) instead of reading `NAME.camera.json`'s pose.
+    #[arg(long)]
+    board_camera: bool,
+    /// Only the scenes with these names.
+    #[arg(long, num_args = 1..)]
+    only: Vec<String>,
+}
+
+/// Frames from a video or a folder of PNGs.
+enum Frames {
+    Video(VideoFrames),
+    Sequence { sequence: ImageSequence, next: usize },
+}
+
+impl Frames {
+    fn open(path: &Path, fps: Option<f64>) -> Result<Frames, Error> {
+        if path.is_dir() {
+            let fps = fps.ok_or_else(|| {
+                Error::whole(&path.display().to_string(), "a folder of frames needs its rate: give --fps")
+            })?;
+            return Ok(Frames::Sequence { sequence: ImageSequence::open(path, fps)?, next: 0 });
+        }
+        Ok(Frames::Video(Ffmpeg::default().open(path)?))
+    }
+
+    fn fps(&self) -> f64 {
+        match self {
+            Frames::Video(v) => v.info.fps,
+            Frames::Sequence { sequence, .. } => sequence.fps,
+        }
+    }
+
+    fn frame_count(&self) -> usize {
+        match self {
+            Frames::Video(v) => v.info.frame_count,
+            Frames::Sequence { sequence, .. } => sequence.frame_count(),
+        }
+    }
+
+    fn next_frame(&mut self) -> Option<Result<GreyImage, Error>> {
+        match self {
+            Frames::Video(v) => v.next_frame(),
+            Frames::Sequence { sequence, next } => (*next < sequence.frame_count()).then(|| {
+                *next += 1;
+                sequence.frame(*next - 1)
+            }),
+        }
+    }
+}
+
+impl Iterator for Frames {
+    type Item = Result<GreyImage, Error>;
+    fn next(&mut self) -> Option<Self::Item> {
+        self.next_frame()
+    }
+}
+
+fn read_text(path: &Path) -> Result<String, Error> {
+    std::fs::read_to_string(path)
+        .map_err(|e| Error::whole(&path.display().to_string(), format!("cannot read: {e}")))
+}
+
+fn read_camera(path: &Path) -> Result<Camera, Error> {
+    Camera::from_json(&read_text(path)?, &path.display().to_string())
+}
+
+fn read_recording(path: &Path) -> Result<Recording, Error> {
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| Error::whole(&name, format!("cannot read: {e}")))?;
+    Recording::parse(&bytes, &name, None)
+}
+
+/// The camera from a board still, posed with `lens` or with its focal
+/// length estimated.
+#[cfg(feature = "board")]
+fn camera_from_board(still: &Path, lens: Option<&Camera>) -> Result<Camera, Error> {
+    crate::calibrate::camera_from_still(still, lens)
+}
+
+#[cfg(not(feature = "board"))]
+fn camera_from_board(still: &Path, _lens: Option<&Camera>) -> Result<Camera, Error> {
+    Err(Error::whole(
+        &still.display().to_string(),
+        "this build has no board detector (cargo feature `board`)",
+    ))
+}
+
+/// The background: the still when given, else the median of 31 frames
+/// spread over the video (read once more from the start).
+fn background(
+    still: Option<&Path>,
+    video: &Path,
+    fps: Option<f64>,
+    warnings: &mut Vec<String>,
+) -> Result<GreyImage, Error> {
+    if let Some(still) = still {
+        return open_png_grey(still);
+    }
+    let frames = Frames::open(video, fps)?;
+    let count = frames.frame_count();
+    let sampled = sample_frames(frames, count, 31)?;
+    warnings.push(format!(
+        "no background still: the median of {} frames of the video stands for the empty room",
+        sampled.len()
+    ));
+    median_background(&sampled, &video.display().to_string())
+}
+
+/// Everything read and checked, ready to track.
+struct Session {
+    recording: Recording,
+    setup: TrackSetup,
+    warnings: Vec<String>,
+}
+
+fn prepare(
+    recording: Recording,
+    camera: Camera,
+    background: GreyImage,
+    timing: VideoTiming,
+    method: TrackMethod,
+    mut warnings: Vec<String>,
+) -> Result<Session, Error> {
+    let size = camera.image_size;
+    if !background.same_size(size.width_px, size.height_px) {
+        return Err(Error::whole(
+            "<background>",
+            format!(
+                "is {}×{} px, the camera's images {}×{}",
+                background.width_px, background.height_px, size.width_px, size.height_px
+            ),
+        ));
+    }
+    let suit = SuitMotion::new(&recording)?;
+    let (video_fps, video_frames) = (timing.fps, timing.frame_count);
+    for (first, last) in timing.frames_without_pose(&suit) {
+        warnings.push(format!("video frames {first}–{last} have no pose in {}: not tracked", recording.name));
+    }
+    let video_s = video_frames as f64 / video_fps;
+    let bvh_s = suit.frame_count() as f64 / suit.bvh_fps;
+    if (video_s - bvh_s).abs() > 1.5 / video_fps.min(suit.bvh_fps) {
+        warnings.push(format!(
+            "the video lasts {video_s:.2} s ({video_frames} frames at {video_fps:.3} fps), the BVH {bvh_s:.2} s ({} frames at {:.3} fps)",
+            suit.frame_count(),
+            suit.bvh_fps
+        ));
+    }
+    let shape = BodyShape::standard(&recording.joint_names, &recording.parents, recording.poses.frame(0))?;
+    let setup =
+        TrackSetup { camera, suit, shape, timing, background, pipeline: PipelineParams::default(), method };
+    Ok(Session { recording, setup, warnings })
+}
+
+/// Runs the tracker over `frames`; the milliseconds per frame it took (not
+/// counting the decoding).
+fn run_tracker(setup: TrackSetup, frames: &mut Frames, progress: bool) -> Result<(Track, f64), Error> {
+    let count = frames.frame_count();
+    let mut tracker = Tracker::new(setup)?;
+    let bar =
+        if progress { indicatif::ProgressBar::new(count as u64) } else { indicatif::ProgressBar::hidden() };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} frames {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let mut busy_s = 0.0;
+    while let Some(frame) = frames.next_frame() {
+        let frame = frame?;
+        let started = Instant::now();
+        tracker.push_frame(&frame)?;
+        busy_s += started.elapsed().as_secs_f64();
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let n = tracker.frame_count().max(1);
+    Ok((tracker.finish(), 1000.0 * busy_s / n as f64))
+}
+
+/// The hips per BVH frame from the track (the video's frames read at the
+/// BVH's times; past the video's ends the suit's own steps carry on), as the
+/// shift of every joint that puts them there.
+fn bvh_shift_cm(recording: &Recording, suit: &SuitMotion, timing: &VideoTiming, track: &Track) -> Vec<DVec3> {
+    let n = recording.frame_count();
+    let frames = &track.frames;
+    let inertial = &suit.inertial_floor_cm;
+    (0..n)
+        .map(|f| {
+            let video_position = (f as f64 / suit.bvh_fps - timing.offset_s) * timing.fps;
+            let floor = if frames.is_empty() {
+                inertial[f]
+            } else if video_position <= 0.0 {
+                let first = ((-timing.offset_s * suit.bvh_fps).round().max(0.0) as usize).min(n - 1);
+                frames[0].floor_cm + inertial[f] - inertial[first]
+            } else if video_position >= (frames.len() - 1) as f64 {
+                let last_time_s = (frames.len() - 1) as f64 / timing.fps + timing.offset_s;
+                let last = ((last_time_s * suit.bvh_fps).round().max(0.0) as usize).min(n - 1);
+                frames[frames.len() - 1].floor_cm + inertial[f] - inertial[last]
+            } else {
+                let a = video_position.floor() as usize;
+                let t = video_position - a as f64;
+                frames[a].floor_cm.lerp(frames[a + 1].floor_cm, t)
+            };
+            let hips_now = recording.poses.at(f, suit.hips);
+            let height = suit.body_cm.at(f, suit.hips).y;
+            DVec3::new(floor.x, height, floor.y) - hips_now
+        })
+        .collect()
+}
+
+fn track_samples(track: &Track) -> Vec<HipsSample> {
+    track
+        .frames
+        .iter()
+        .map(|f| HipsSample {
+            time_s: f.time_s,
+            hips_cm: DVec3::new(f.floor_cm.x, f.height_cm, f.floor_cm.y),
+            confidence: Some(f.confidence),
+        })
+        .collect()
+}
+
+/// `OUT.bvh` → `OUT.track.csv`.
+fn csv_path(output: &Path) -> PathBuf {
+    output.with_extension("track.csv")
+}
+
+pub fn run_track(args: &TrackArgs) -> ExitCode {
+    match track(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn track(args: &TrackArgs) -> Result<(), Error> {
+    let recording = read_recording(&args.bvh)?;
+    let camera = match (&args.camera, &args.board) {
+        (Some(path), _) => read_camera(path)?,
+        (None, Some(still)) => {
+            let lens = args.intrinsics.as_deref().map(read_camera).transpose()?;
+            camera_from_board(still, lens.as_ref())?
+        }
+        (None, None) => return Err(Error::whole("embusen track", "give --camera or --board")),
+    };
+    let mut warnings = Vec::new();
+    let background = background(args.background.as_deref(), &args.video, args.fps, &mut warnings)?;
+    let mut frames = Frames::open(&args.video, args.fps)?;
+    let video_name = args.video.display().to_string();
+    let size = camera.image_size;
+    let first = frames.next_frame().transpose()?;
+    let Some(first) = first else { return Err(Error::whole(&video_name, "has no frames")) };
+    if !first.same_size(size.width_px, size.height_px) {
+        return Err(Error::whole(
+            &video_name,
+            format!(
+                "is {}×{} px but the camera was calibrated for {}×{}",
+                first.width_px, first.height_px, size.width_px, size.height_px
+            ),
+        ));
+    }
+    let mut frames = Frames::open(&args.video, args.fps)?;
+    let session = prepare(
+        recording,
+        camera,
+        background,
+        VideoTiming { fps: frames.fps(), frame_count: frames.frame_count(), offset_s: args.offset_s },
+        args.method.method(),
+        warnings,
+    )?;
+    for w in &session.warnings {
+        eprintln!("warning: {w}");
+    }
+    let (suit, timing) = (session.setup.suit.clone(), session.setup.timing);
+    let (track, ms_per_frame) = run_tracker(session.setup, &mut frames, true)?;
+    for w in &track.warnings {
+        eprintln!("warning: {w}");
+    }
+    let shift = bvh_shift_cm(&session.recording, &suit, &timing, &track);
+    let out_name = args.output.display().to_string();
+    std::fs::write(&args.output, session.recording.write_shifted(&shift))
+        .map_err(|e| Error::whole(&out_name, format!("cannot write: {e}")))?;
+    let csv = csv_path(&args.output);
+    std::fs::write(&csv, format_hips_csv(&track_samples(&track)))
+        .map_err(|e| Error::whole(&csv.display().to_string(), format!("cannot write: {e}")))?;
+    let seen = track.frames.iter().filter(|f| f.confidence > 0.0).count();
+    println!(
+        "{}: {} frames tracked ({} seen by the camera), {ms_per_frame:.1} ms per frame; wrote {out_name} and {}",
+        track.method.name(),
+        track.frames.len(),
+        seen,
+        csv.display()
+    );
+    Ok(())
+}
+
+/// One scene's figures for one way of placing the hips.
+struct SceneRow {
+    scene: String,
+    method: &'static str,
+    errors: TrackErrors,
+    ms_per_frame: f64,
+}
+
+pub fn run_eval_track(args: &EvalTrackArgs) -> ExitCode {
+    match eval_track(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn scenes(dirs: &[PathBuf], only: &[String]) -> Result<Vec<(PathBuf, String)>, Error> {
+    let mut out = Vec::new();
+    for dir in dirs {
+        let name = dir.display().to_string();
+        let entries = std::fs::read_dir(dir).map_err(|e| Error::whole(&name, format!("cannot read: {e}")))?;
+        let mut found: Vec<String> = entries
+            .filter_map(|e| e.ok())
+            .filter_map(|e| {
+                e.file_name().to_str().and_then(|n| n.strip_suffix(".truth.csv")).map(String::from)
+            })
+            .filter(|n| only.is_empty() || only.contains(n))
+            .collect();
+        found.sort();
+        out.extend(found.into_iter().map(|n| (dir.clone(), n)));
+    }
+    if out.is_empty() {
+        return Err(Error::whole("eval-track", "no scene (NAME.truth.csv) in the folders given"));
+    }
+    Ok(out)
+}
+
+fn scene_video(dir: &Path, name: &str) -> Result<PathBuf, Error> {
+    ["mp4", "webm", "mkv", "mov", "avi"]
+        .iter()
+        .map(|ext| dir.join(format!("{name}.{ext}")))
+        .find(|p| p.is_file())
+        .ok_or_else(|| {
+            Error::whole(&dir.join(name).display().to_string(), "no video (.mp4, .webm, …) for this scene")
+        })
+}
+
+fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
+    let mut rows: Vec<SceneRow> = Vec::new();
+    for (dir, name) in scenes(&args.dirs, &args.only)? {
+        let path = |suffix: &str| dir.join(format!("{name}{suffix}"));
+        let truth_path = path(".truth.csv");
+        let truth = parse_hips_csv(&read_text(&truth_path)?, &truth_path.display().to_string())?;
+        let truth_floor: Vec<DVec2> = truth.iter().map(|s| DVec2::new(s.hips_cm.x, s.hips_cm.z)).collect();
+        let recording = read_recording(&path(".suit.bvh"))?;
+        let true_camera = read_camera(&path(".camera.json"))?;
+        let camera = if args.board_camera {
+            camera_from_board(&path(".board.png"), Some(&true_camera))?
+        } else {
+            true_camera
+        };
+        let video = scene_video(&dir, &name)?;
+        let background_still = path(".background.png");
+        // The suit's own translation, read at the video's frames.
+        let suit = SuitMotion::new(&recording)?;
+        let suit_floor: Vec<DVec2> = (0..truth.len())
+            .map(|i| {
+                SuitMotion::floor_at(&suit.suit_floor_cm, suit.instant(truth[i].time_s)).unwrap_or(DVec2::NAN)
+            })
+            .collect();
+        rows.push(SceneRow {
+            scene: name.clone(),
+            method: "suit",
+            errors: track_errors(&suit_floor, &truth_floor),
+            ms_per_frame: 0.0,
+        });
+        for method in [TrackMethodArg::Paper, TrackMethodArg::Fused] {
+            let mut warnings = Vec::new();
+            let background = background(
+                background_still.is_file().then_some(background_still.as_path()),
+                &video,
+                None,
+                &mut warnings,
+            )?;
+            let mut frames = Frames::open(&video, None)?;
+            let session = prepare(
+                recording.clone(),
+                camera,
+                background,
+                VideoTiming { fps: frames.fps(), frame_count: frames.frame_count(), offset_s: 0.0 },
+                method.method(),
+                warnings,
+            )?;
+            let (track, ms_per_frame) = run_tracker(session.setup, &mut frames, false)?;
+            let floor: Vec<DVec2> = track.frames.iter().map(|f| f.floor_cm).collect();
+            let row = SceneRow {
+                scene: name.clone(),
+                method: track.method.name(),
+                errors: track_errors(&floor, &truth_floor),
+                ms_per_frame,
+            };
+            print_row(&row);
+            rows.push(row);
+        }
+    }
+    println!();
+    println!(
+        "{:<12} {:<6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>9}",
+        "scene", "method", "mean cm", "median", "p90", "max", "final", ">20 cm", "ms/frame"
+    );
+    for row in &rows {
+        print_row(row);
+    }
+    println!("medians over the scenes:");
+    for method in ["suit", "paper", "fused"] {
+        let of: Vec<&SceneRow> = rows.iter().filter(|r| r.method == method).collect();
+        let m = |get: fn(&TrackErrors) -> f64| median(&of.iter().map(|r| get(&r.errors)).collect::<Vec<_>>());
+        let errors = TrackErrors {
+            mean_cm: m(|e| e.mean_cm),
+            median_cm: m(|e| e.median_cm),
+            p90_cm: m(|e| e.p90_cm),
+            max_cm: m(|e| e.max_cm),
+            final_cm: m(|e| e.final_cm),
+            lost_share: m(|e| e.lost_share),
+        };
+        let ms = median(&of.iter().map(|r| r.ms_per_frame).collect::<Vec<_>>());
+        print_row(&SceneRow {
+            scene: "median".into(),
+            method: of.first().map_or("?", |r| r.method),
+            errors,
+            ms_per_frame: ms,
+        });
+    }
+    Ok(())
+}
+
+fn print_row(row: &SceneRow) {
+    let e = &row.errors;
+    println!(
+        "{:<12} {:<6} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>7.1}% {:>9.2}",
+        row.scene,
+        row.method,
+        e.mean_cm,
+        e.median_cm,
+        e.p90_cm,
+        e.max_cm,
+        e.final_cm,
+        100.0 * e.lost_share,
+        row.ms_per_frame
+    );
+}

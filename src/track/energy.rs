@@ -1,0 +1,138 @@
+//! How well a silhouette fits one frame, the two ways the trackers score it.
+//!
+//! - **The paper's Chamfer energy**: the mean, over the silhouette's
+//!   contour pixels, of the distance to the video's nearest edge. Every
+//!   contour pixel counts in full, so one far from any edge (a limb the suit
+//!   puts a little wrong, an edge the codec smeared) weighs as much as the
+//!   whole rest of the fit, and edges of clutter can pull the body aside.
+//! - **The fused energy**: the same contour mean with each distance
+//!   truncated at `truncation_px` (an outlier costs at most that), plus the
+//!   mean over the silhouette's *area* of its truncated distance outside the
+//!   foreground mask: a silhouette that slides off the actor onto the
+//!   room's edges pays for every pixel it puts on the empty room. A cast
+//!   shadow is foreground, so it costs nothing to cover and does not pull.
+
+use crate::image::{DistanceImage, Mask};
+use crate::track::silhouette::Silhouette;
+
+/// The per-frame image terms, ready to be summed over many silhouettes.
+#[derive(Clone, Debug)]
+pub struct FrameTerms {
+    width_px: u32,
+    height_px: u32,
+    /// Distance to the nearest edge (px), untruncated.
+    edge_distance_px: Vec<f32>,
+    /// Per row, the prefix sums of the truncated distance outside the
+    /// foreground: `row_prefix[y * (w + 1) + x]` sums columns `0..x` of row
+    /// `y`, so a span costs one subtraction.
+    outside_prefix: Vec<f64>,
+    /// Per row, the prefix counts of foreground pixels, likewise.
+    foreground_prefix: Vec<u32>,
+    truncation_px: f32,
+}
+
+/// A silhouette's fit, its parts kept apart for the confidence.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fit {
+    /// Contour pixels.
+    pub contour_px: usize,
+    /// The paper's energy: the mean untruncated edge distance (px).
+    pub chamfer_px: f64,
+    /// The mean edge distance, each truncated (px).
+    pub truncated_chamfer_px: f64,
+    /// The mean truncated distance outside the foreground over the area (px).
+    pub outside_px: f64,
+    /// The share of contour pixels within `NEAR_EDGE_PX` of an edge.
+    pub near_edge_share: f64,
+    /// The share of the silhouette's area on the foreground.
+    pub on_foreground_share: f64,
+}
+
+/// A contour pixel this close to an edge (px) is on it, give or take the
+/// edge detector's and the rasteriser's pixel.
+pub const NEAR_EDGE_PX: f32 = 2.0;
+
+impl FrameTerms {
+    /// The terms of a frame whose edges are `edge_distance` away and whose
+    /// foreground is `foreground` (with `outside_distance` its distance
+    /// transform), distances truncated at `truncation_px` for the fused
+    /// energy.
+    pub fn new(
+        edge_distance: &DistanceImage,
+        outside_distance: &DistanceImage,
+        foreground: &Mask,
+        truncation_px: f32,
+    ) -> FrameTerms {
+        let (w, h) = (edge_distance.width_px as usize, edge_distance.height_px as usize);
+        let mut outside_prefix = vec![0.0; (w + 1) * h];
+        let mut foreground_prefix = vec![0u32; (w + 1) * h];
+        for y in 0..h {
+            let (row, prefix) = (&outside_distance.distance_px[y * w..(y + 1) * w], y * (w + 1));
+            for x in 0..w {
+                outside_prefix[prefix + x + 1] =
+                    outside_prefix[prefix + x] + row[x].min(truncation_px) as f64;
+                foreground_prefix[prefix + x + 1] =
+                    foreground_prefix[prefix + x] + foreground.on[y * w + x] as u32;
+            }
+        }
+        FrameTerms {
+            width_px: edge_distance.width_px,
+            height_px: edge_distance.height_px,
+            edge_distance_px: edge_distance.distance_px.clone(),
+            outside_prefix,
+            foreground_prefix,
+            truncation_px,
+        }
+    }
+
+    /// How `silhouette` fits; `None` when it covers no pixel of the image.
+    pub fn fit(&self, silhouette: &Silhouette) -> Option<Fit> {
+        if silhouette.image_size.width_px != self.width_px
+            || silhouette.image_size.height_px != self.height_px
+        {
+            return None;
+        }
+        let contour = silhouette.contour();
+        if contour.is_empty() {
+            return None;
+        }
+        let w = self.width_px as usize;
+        let (mut chamfer, mut truncated, mut near) = (0.0f64, 0.0f64, 0usize);
+        for [x, y] in &contour {
+            let d = self.edge_distance_px[*y as usize * w + *x as usize];
+            chamfer += d as f64;
+            truncated += d.min(self.truncation_px) as f64;
+            near += usize::from(d <= NEAR_EDGE_PX);
+        }
+        let (mut outside, mut on_foreground, mut area) = (0.0f64, 0u64, 0u64);
+        for span in &silhouette.spans {
+            let row = span.row as usize * (w + 1);
+            let (a, b) = (row + span.start as usize, row + span.end as usize);
+            outside += self.outside_prefix[b] - self.outside_prefix[a];
+            on_foreground += (self.foreground_prefix[b] - self.foreground_prefix[a]) as u64;
+            area += (span.end - span.start) as u64;
+        }
+        let n = contour.len() as f64;
+        Some(Fit {
+            contour_px: contour.len(),
+            chamfer_px: chamfer / n,
+            truncated_chamfer_px: truncated / n,
+            outside_px: outside / area.max(1) as f64,
+            near_edge_share: near as f64 / n,
+            on_foreground_share: on_foreground as f64 / area.max(1) as f64,
+        })
+    }
+}
+
+impl Fit {
+    /// The fused energy with the area term weighed by `mask_weight`.
+    pub fn fused_energy(&self, mask_weight: f64) -> f64 {
+        self.truncated_chamfer_px + mask_weight * self.outside_px
+    }
+
+    /// How far the fit can be trusted, 0 to 1: the geometric mean of the
+    /// contour's share on edges and the area's share on the foreground.
+    pub fn confidence(&self) -> f64 {
+        (self.near_edge_share * self.on_foreground_share).sqrt()
+    }
+}

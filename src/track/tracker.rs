@@ -1,0 +1,508 @@
+//! The camera tracker, frame by frame: each video frame is made into edges
+//! and a foreground mask (`image::pipeline`), the suit's pose of that
+//! instant is posed as a body (`body::shape`) and its silhouette
+//! (`silhouette`) is fitted to the frame near where the body should be,
+//! either as the paper does (`paper`) or as embusen does (below); once every
+//! frame is read, the path is smoothed. Frames come in one at a time, so a
+//! long video is never held in memory, and the same code runs in the CLI
+//! (frames from ffmpeg) and in the browser (frames from a video element).
+//!
+//! embusen's tracker (`fused`) removes what the paper lists as its limits:
+//! - **the motion is predicted** by the contact method's floor path (the
+//!   suit's own steps), not assumed still, and how far the prediction may be
+//!   wrong grows with the step ([`FusedParams::stride_error`]: the suit's
+//!   strides come out 6–22 % short or long) and with time;
+//! - **the search is continuous**, coarse to fine around the prediction to
+//!   half a centimetre, over as wide a square as the prediction's
+//!   uncertainty asks;
+//! - **the energy cannot slide into clutter**: truncated contour distances
+//!   plus the silhouette's area off the foreground (`energy`);
+//! - **each measurement says how well it sees**: its covariance, along the
+//!   camera's line of sight and across it, is the larger of what the
+//!   energy's own curvature there allows and of the matching precision in
+//!   pixels through the image's sensitivity to a floor shift. Along the line
+//!   of sight a silhouette barely changes (a body 20 cm farther is a body 3 %
+//!   smaller), so there the suit's steps carry most of the weight, and a
+//!   poor fit (low confidence) counts for less; frames where the body is out
+//!   of view, or the fit is not believable, are carried by the prediction
+//!   alone;
+//! - **the smoothing is a forward–backward Kalman smoother**
+//!   (`smoother`), not a fixed Gaussian, and it learns how the suit's strides
+//!   and heading are off from what the camera sees.
+
+use glam::{DMat2, DVec2, DVec3};
+
+use crate::body::shape::{BodyShape, PosedBody};
+use crate::camera::Camera;
+use crate::error::Error;
+use crate::image::GreyImage;
+use crate::image::pipeline::{Features, PipelineParams, features};
+use crate::track::energy::{Fit, FrameTerms};
+use crate::track::paper::{PaperTrackParams, paper_smooth, paper_step};
+use crate::track::search::coarse_to_fine;
+use crate::track::silhouette::{Silhouette, SilhouetteRenderer};
+use crate::track::smoother::{FloorFilter, Measurement};
+use crate::track::suit_motion::{BvhInstant, SuitMotion, VideoTiming};
+
+/// embusen's tracker's parameters; each has its physical reason.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FusedParams {
+    /// How wrong an inertial step may be, as a share of its length: the
+    /// suit's pose moves a planted foot relative to the hips by 0.78–0.94 of
+    /// the true distance at the real suit's error level (docs/contact.md).
+    pub stride_error: f64,
+    /// How fast the inertial path may drift where the body barely moves
+    /// (cm/s): a slow slide of the planted feet.
+    pub drift_cm_per_s: f64,
+    /// How precisely a good fit places the silhouette (px, one σ): the body
+    /// model's girths and the suit's limb angles are each off by a pixel or
+    /// two at a few metres.
+    pub match_sigma_px: f64,
+    /// The search reaches this many σ of the prediction's uncertainty ...
+    pub search_sigmas: f64,
+    /// ... but at least this far (cm) ...
+    pub min_search_cm: f64,
+    /// ... and at most this far (cm): a step and a half of a run in one frame.
+    pub max_search_cm: f64,
+    /// The search's last spacing (cm).
+    pub resolution_cm: f64,
+    /// A contour pixel's distance to an edge counts up to this much (cm at
+    /// the body's distance, so the same at any resolution): about a limb's
+    /// width, past which the pixel is simply not on its edge.
+    pub truncation_cm: f64,
+    /// The weight of the silhouette's area off the foreground beside the
+    /// contour's distance to the edges.
+    pub mask_weight: f64,
+    /// Below this confidence a fit is not used.
+    pub min_confidence: f64,
+    /// After this long (s) of fits rejected as too far from the prediction,
+    /// the prediction is taken for lost and the camera trusted again.
+    pub reacquire_after_s: f64,
+    /// How far the first frame's search reaches around its starting guess (cm).
+    pub start_search_cm: f64,
+}
+
+impl Default for FusedParams {
+    fn default() -> Self {
+        FusedParams {
+            stride_error: 0.15,
+            drift_cm_per_s: 10.0,
+            match_sigma_px: 1.5,
+            search_sigmas: 3.0,
+            min_search_cm: 10.0,
+            max_search_cm: 60.0,
+            resolution_cm: 0.5,
+            truncation_cm: 10.0,
+            mask_weight: 1.0,
+            min_confidence: 0.2,
+            reacquire_after_s: 0.5,
+            start_search_cm: 80.0,
+        }
+    }
+}
+
+/// Which tracker.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TrackMethod {
+    /// Riečický et al.'s, as published.
+    Paper(PaperTrackParams),
+    /// embusen's.
+    Fused(FusedParams),
+}
+
+impl TrackMethod {
+    pub fn name(&self) -> &'static str {
+        match self {
+            TrackMethod::Paper(_) => "paper",
+            TrackMethod::Fused(_) => "fused",
+        }
+    }
+}
+
+/// One video frame of a track.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrackedFrame {
+    /// The video frame's time (s).
+    pub time_s: f64,
+    /// Where the hips are on the floor (x, z, cm), smoothed.
+    pub floor_cm: DVec2,
+    /// Their height above the floor (cm), as the contact method stands the
+    /// body; NaN where the BVH has no pose.
+    pub height_cm: f64,
+    /// How well the camera saw the body, 0 to 1 (0 where it was not used).
+    pub confidence: f64,
+    /// The camera's own measurement before smoothing, where one was used.
+    pub measured_cm: Option<DVec2>,
+    /// The paper's 25 candidates and their energies (the paper's tracker only).
+    pub candidates: Vec<(DVec2, f64)>,
+}
+
+/// A whole track.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Track {
+    pub method: TrackMethod,
+    pub frames: Vec<TrackedFrame>,
+    pub warnings: Vec<String>,
+    /// The fused tracker's mean squared Mahalanobis distance of the camera's
+    /// measurements from the predictions (NaN for the paper's).
+    pub mean_innovation: f64,
+}
+
+/// What the tracker needs besides the frames.
+#[derive(Clone, Debug)]
+pub struct TrackSetup {
+    pub camera: Camera,
+    pub suit: SuitMotion,
+    pub shape: BodyShape,
+    pub timing: VideoTiming,
+    pub background: GreyImage,
+    pub pipeline: PipelineParams,
+    pub method: TrackMethod,
+}
+
+/// The tracker in the middle of a video.
+pub struct Tracker {
+    setup: TrackSetup,
+    renderer: SilhouetteRenderer,
+    silhouette: Silhouette,
+    filter: Option<FloorFilter>,
+    /// The paper's chosen positions, unsmoothed.
+    paper_path: Vec<DVec2>,
+    frames: Vec<TrackedFrame>,
+    /// The video frames with no pose, and those where the body was not seen.
+    frames_without_pose: usize,
+    frames_unseen: usize,
+}
+
+impl Tracker {
+    pub fn new(setup: TrackSetup) -> Result<Tracker, Error> {
+        let size = setup.camera.image_size;
+        if !setup.background.same_size(size.width_px, size.height_px) {
+            return Err(Error::whole(
+                "<background>",
+                format!(
+                    "is {}×{} but the camera's images are {}×{}",
+                    setup.background.width_px, setup.background.height_px, size.width_px, size.height_px
+                ),
+            ));
+        }
+        if let TrackMethod::Paper(params) = &setup.method {
+            params.check().map_err(|m| Error::whole("<paper tracker>", m))?;
+        }
+        let renderer = SilhouetteRenderer::new(&setup.camera);
+        Ok(Tracker {
+            silhouette: Silhouette::empty(size),
+            renderer,
+            setup,
+            filter: None,
+            paper_path: Vec::new(),
+            frames: Vec::new(),
+            frames_without_pose: 0,
+            frames_unseen: 0,
+        })
+    }
+
+    /// The frames read so far.
+    pub fn frame_count(&self) -> usize {
+        self.frames.len()
+    }
+
+    /// Reads the next video frame.
+    pub fn push_frame(&mut self, frame: &GreyImage) -> Result<&TrackedFrame, Error> {
+        let i = self.frames.len();
+        let label = format!("video frame {i}");
+        let size = self.setup.camera.image_size;
+        if !frame.same_size(size.width_px, size.height_px) {
+            return Err(Error::whole(
+                &label,
+                format!(
+                    "is {}×{} but the camera's images are {}×{}",
+                    frame.width_px, frame.height_px, size.width_px, size.height_px
+                ),
+            ));
+        }
+        let time_s = i as f64 / self.setup.timing.fps;
+        let instant = self.setup.suit.instant(self.setup.timing.bvh_time_s(i));
+        let Some(body_cm) = self.setup.suit.body_at(instant) else {
+            self.frames_without_pose += 1;
+            let floor_cm = self.frames.last().map_or(DVec2::ZERO, |f| f.floor_cm);
+            self.paper_path.push(floor_cm);
+            if let Some(filter) = &mut self.filter {
+                filter.predict(DVec2::ZERO, 0.0);
+            }
+            self.frames.push(TrackedFrame {
+                time_s,
+                floor_cm,
+                height_cm: f64::NAN,
+                confidence: 0.0,
+                measured_cm: None,
+                candidates: Vec::new(),
+            });
+            return Ok(&self.frames[i]);
+        };
+        let height_cm = body_cm[self.setup.suit.hips].y;
+        let body = self.setup.shape.pose(&body_cm, DVec3::ZERO)?;
+        let features = features(frame, &self.setup.background, &self.setup.pipeline, &label)?;
+        let tracked = match self.setup.method {
+            TrackMethod::Paper(params) => self.paper_frame(&params, &body, &features),
+            TrackMethod::Fused(params) => self.fused_frame(&params, &body, &features, instant, i),
+        };
+        if tracked.confidence == 0.0 {
+            self.frames_unseen += 1;
+        }
+        self.frames.push(TrackedFrame { time_s, height_cm, ..tracked });
+        Ok(&self.frames[i])
+    }
+
+    fn render_fit(&mut self, terms: &FrameTerms, body: &PosedBody, floor_cm: DVec2) -> Option<Fit> {
+        self.renderer.render_into(body, DVec3::new(floor_cm.x, 0.0, floor_cm.y), &mut self.silhouette);
+        terms.fit(&self.silhouette)
+    }
+
+    fn paper_frame(
+        &mut self,
+        params: &PaperTrackParams,
+        body: &PosedBody,
+        features: &Features,
+    ) -> TrackedFrame {
+        // The paper's energy is untruncated; the terms' truncation is unused.
+        let terms = FrameTerms::new(
+            &features.edge_distance,
+            &features.outside_distance,
+            &features.foreground,
+            f32::INFINITY,
+        );
+        // The board's origin is the actor's start.
+        let last = self.paper_path.last().copied().unwrap_or(DVec2::ZERO);
+        let mut fits = Vec::new();
+        let frame = paper_step(last, params, |p| {
+            let fit = self.render_fit(&terms, body, p);
+            fits.push(fit);
+            fit.map_or(f64::NAN, |f| f.chamfer_px)
+        });
+        let position = frame.position();
+        self.paper_path.push(position);
+        let confidence = fits[frame.chosen].map_or(0.0, |f| f.confidence());
+        TrackedFrame {
+            time_s: 0.0,
+            floor_cm: position,
+            height_cm: 0.0,
+            confidence,
+            measured_cm: Some(position),
+            candidates: frame.candidates,
+        }
+    }
+
+    fn fused_frame(
+        &mut self,
+        params: &FusedParams,
+        body: &PosedBody,
+        features: &Features,
+        instant: BvhInstant,
+        i: usize,
+    ) -> TrackedFrame {
+        let camera = self.setup.camera;
+        let dt = 1.0 / self.setup.timing.fps;
+        let (prediction, radius_cm) = match &mut self.filter {
+            None => (self.first_guess(features, body), params.start_search_cm),
+            Some(filter) => {
+                let before = self.setup.timing.bvh_time_s(i.saturating_sub(1));
+                let path = &self.setup.suit.inertial_floor_cm;
+                let step = match (
+                    SuitMotion::floor_at(path, self.setup.suit.instant(before)),
+                    SuitMotion::floor_at(path, instant),
+                ) {
+                    (Some(a), Some(b)) => b - a,
+                    _ => DVec2::ZERO,
+                };
+                let sigma = params.stride_error * step.length() + params.drift_cm_per_s * dt;
+                let (predicted, covariance) = filter.predict(step, sigma);
+                let spread = largest_sigma_cm(covariance);
+                (predicted, (params.search_sigmas * spread).clamp(params.min_search_cm, params.max_search_cm))
+            }
+        };
+        let depth_cm = camera.point_in_camera(DVec3::new(prediction.x, 100.0, prediction.y)).z.max(50.0);
+        let truncation_px = (camera.intrinsics.fx_px * params.truncation_cm / depth_cm) as f32;
+        let terms = FrameTerms::new(
+            &features.edge_distance,
+            &features.outside_distance,
+            &features.foreground,
+            truncation_px.max(1.0),
+        );
+        let found = coarse_to_fine(prediction, radius_cm, params.resolution_cm, |p| {
+            self.render_fit(&terms, body, p).map_or(f64::NAN, |f| f.fused_energy(params.mask_weight))
+        });
+        let fit = found.and_then(|(p, _)| self.render_fit(&terms, body, p).map(|fit| (p, fit)));
+        let reacquire_after = ((params.reacquire_after_s / dt).round() as usize).max(1);
+        self.filter.get_or_insert_with(|| FloorFilter::new(prediction, radius_cm, dt, reacquire_after));
+        let mut confidence = 0.0;
+        let mut measured_cm = None;
+        if let Some((p, fit)) = fit
+            && fit.confidence() >= params.min_confidence
+        {
+            let sigma_px = params.match_sigma_px / fit.confidence();
+            let geometric = measurement_covariance(&camera, body, p, sigma_px);
+            let energy = |tracker: &mut Tracker, q: DVec2| {
+                tracker.render_fit(&terms, body, q).map_or(f64::NAN, |f| f.fused_energy(params.mask_weight))
+            };
+            let centre = camera.center_in_world();
+            let along = (p - DVec2::new(centre.x, centre.z)).normalize_or(DVec2::X);
+            let across = along.perp();
+            let e0 = fit.fused_energy(params.mask_weight);
+            let h = CURVATURE_STEP_CM;
+            let mut sigma2 = [0.0; 2];
+            for (k, u) in [along, across].into_iter().enumerate() {
+                let (plus, minus) = (energy(self, p + u * h), energy(self, p - u * h));
+                let curvature = (plus + minus - 2.0 * e0) / (h * h);
+                // The energy is a mean over the contour; it is as uncertain
+                // as `ENERGY_NOISE_PX`, which moves the minimum by σ with
+                // ½ κ σ² = noise. A flat (or concave) valley says nothing.
+                sigma2[k] = if curvature > 0.0 { 2.0 * ENERGY_NOISE_PX / curvature } else { f64::INFINITY };
+            }
+            let covariance = geometric.and_then(|g| {
+                let project = |u: DVec2| u.dot(g * u);
+                let (r, a) = (sigma2[0].max(project(along)), sigma2[1].max(project(across)));
+                let limit = MAX_MEASUREMENT_SIGMA_CM * MAX_MEASUREMENT_SIGMA_CM;
+                (r.is_finite() && a.is_finite()).then(|| {
+                    let basis = DMat2::from_cols(along, across);
+                    basis * DMat2::from_diagonal(DVec2::new(r.min(limit), a.min(limit))) * basis.transpose()
+                })
+            });
+            let filter = self
+                .filter
+                .get_or_insert_with(|| FloorFilter::new(prediction, radius_cm, dt, reacquire_after));
+            if let Some(covariance) = covariance {
+                match filter.update(p, covariance) {
+                    Measurement::Used | Measurement::Reacquired => {
+                        confidence = fit.confidence();
+                        measured_cm = Some(p);
+                    }
+                    Measurement::Rejected => {}
+                }
+            }
+        }
+        TrackedFrame {
+            time_s: 0.0,
+            floor_cm: self.filter.as_ref().map_or(prediction, |f| f.current().0),
+            height_cm: 0.0,
+            confidence,
+            measured_cm,
+            candidates: Vec::new(),
+        }
+    }
+
+    /// Where to look for the body in the first frame: the floor below the
+    /// foreground's lowest pixels (the feet stand on the floor), or the
+    /// world's origin (where the board is, and where the paper has the actor
+    /// start) when there is no foreground, whichever fits better.
+    fn first_guess(&mut self, features: &Features, body: &PosedBody) -> DVec2 {
+        let mask = &features.foreground;
+        let (w, h) = (mask.width_px as usize, mask.height_px as usize);
+        let mut guesses = vec![DVec2::ZERO];
+        if let Some(bottom) =
+            (0..h).rev().find(|&y| mask.on[y * w..(y + 1) * w].iter().filter(|&&o| o).count() >= 3)
+        {
+            let row = &mask.on[bottom * w..(bottom + 1) * w];
+            let xs: Vec<usize> = (0..w).filter(|&x| row[x]).collect();
+            let x = xs[xs.len() / 2] as f64;
+            if let Some(floor) = self.setup.camera.floor_point(glam::DVec2::new(x, bottom as f64)) {
+                guesses.push(DVec2::new(floor.x, floor.z));
+            }
+        }
+        let terms = FrameTerms::new(&features.edge_distance, &features.outside_distance, mask, 8.0);
+        guesses
+            .into_iter()
+            .map(|g| (g, self.render_fit(&terms, body, g).map_or(f64::INFINITY, |f| f.fused_energy(1.0))))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map_or(DVec2::ZERO, |(g, _)| g)
+    }
+
+    /// The track, smoothed.
+    pub fn finish(self) -> Track {
+        let mut frames = self.frames;
+        let smoothed: Vec<DVec2> = match (&self.setup.method, &self.filter) {
+            (TrackMethod::Paper(params), _) => paper_smooth(&self.paper_path, params),
+            (TrackMethod::Fused(_), Some(filter)) => filter.smooth().into_iter().map(|(p, _)| p).collect(),
+            (TrackMethod::Fused(_), None) => frames.iter().map(|f| f.floor_cm).collect(),
+        };
+        // The filter starts at the first frame with a pose: align the ends.
+        let offset = frames.len().saturating_sub(smoothed.len());
+        for (frame, p) in frames.iter_mut().skip(offset).zip(smoothed) {
+            frame.floor_cm = p;
+        }
+        let mut warnings = Vec::new();
+        if self.frames_without_pose > 0 {
+            warnings.push(format!(
+                "{} video frames have no pose in the BVH (outside its time span)",
+                self.frames_without_pose
+            ));
+        }
+        if self.frames_unseen > 0 {
+            warnings.push(format!(
+                "the camera did not see the body well enough in {} of {} frames: the suit's motion carries them",
+                self.frames_unseen,
+                frames.len()
+            ));
+        }
+        let mean_innovation = self.filter.as_ref().map_or(f64::NAN, |f| f.mean_innovation());
+        Track { method: self.setup.method, frames, warnings, mean_innovation }
+    }
+}
+
+/// How far either side of a fit (cm) the energy is probed for its curvature.
+const CURVATURE_STEP_CM: f64 = 10.0;
+
+/// How uncertain a fit's energy is (px): the mean truncated distance over a
+/// few hundred contour pixels, each good to a pixel or so, but neighbours
+/// err together.
+const ENERGY_NOISE_PX: f64 = 0.1;
+
+/// A measurement is never taken as more uncertain than this (cm, one σ):
+/// past it, it might as well not be.
+const MAX_MEASUREMENT_SIGMA_CM: f64 = 300.0;
+
+/// The square root of the covariance's larger eigenvalue (cm).
+fn largest_sigma_cm(covariance: DMat2) -> f64 {
+    let (a, b, d) = (covariance.x_axis.x, covariance.y_axis.x, covariance.y_axis.y);
+    let mean = 0.5 * (a + d);
+    let spread = (0.25 * (a - d) * (a - d) + b * b).sqrt();
+    (mean + spread).max(0.0).sqrt()
+}
+
+/// The covariance (cm²) of a floor position measured to `sigma_px` in the
+/// image: `σ² (Jᵀ J)⁻¹`, with `Jᵀ J` the mean over the body's spheres of
+/// how their pixels move per cm of floor shift (finite differences through
+/// the lens). Along the camera's line of sight the pixels barely move, so
+/// that direction comes out uncertain, as it is. `None` when the body is
+/// not in front of the camera.
+fn measurement_covariance(
+    camera: &Camera,
+    body: &PosedBody,
+    floor_cm: DVec2,
+    sigma_px: f64,
+) -> Option<DMat2> {
+    let shift = DVec3::new(floor_cm.x, 0.0, floor_cm.y);
+    let mut normal = DMat2::ZERO;
+    let mut count = 0usize;
+    for sphere in &body.spheres {
+        let at = sphere.centre_cm + shift;
+        let (Some(p), Some(px), Some(pz)) = (
+            camera.point_in_image(at),
+            camera.point_in_image(at + DVec3::X),
+            camera.point_in_image(at + DVec3::Z),
+        ) else {
+            continue;
+        };
+        let j = DMat2::from_cols(px - p, pz - p);
+        normal += j.transpose() * j;
+        count += 1;
+    }
+    if count == 0 {
+        return None;
+    }
+    let normal = normal * (1.0 / count as f64);
+    if normal.determinant().abs() < 1e-12 {
+        return None;
+    }
+    Some(normal.inverse() * (sigma_px * sigma_px))
+}
