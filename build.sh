@@ -105,6 +105,8 @@ cmd_bench() {
     ensure_ffmpeg
     cargo bench --bench core
     cargo bench --bench image
+    cargo bench --bench silhouette
+    cargo bench --bench track
     cmd_build
     ensure_chromium
     node tests/browser/bench.mjs

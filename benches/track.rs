@@ -45,7 +45,7 @@ fn main() {
         std::hint::black_box(features(frame, &background, &PipelineParams::default(), "frame").unwrap());
     }
     let pipeline_ms = 1e3 * started.elapsed().as_secs_f64() / n as f64;
-    let mut per_frame_ms = |method: TrackMethod| {
+    let per_frame_ms = |method: TrackMethod| {
         let setup = TrackSetup {
             camera,
             suit: suit.clone(),
