@@ -19,6 +19,7 @@ use embusen::track::silhouette::SilhouetteRenderer;
 use embusen::track::suit_motion::{SuitMotion, VideoTiming};
 use embusen::track::tracker::{FusedParams, Track, TrackMethod, TrackSetup, Tracker};
 use glam::{DAffine3, DMat3, DVec2, DVec3};
+use std::path::Path;
 
 /// A camera 6 m from `target` along −Z and 1.6 m up, looking at it, with a
 /// mild barrel lens, for images of `size` (not 640×480 on purpose).
@@ -169,6 +170,31 @@ fn scratch_dir(name: &str) -> std::path::PathBuf {
     dir
 }
 
+/// `embusen track VIDEO --bvh BVH --camera CAMERA [--background BG] -o OUT`.
+fn track_cli(
+    video: &Path,
+    bvh: &Path,
+    camera: &Path,
+    background: Option<&Path>,
+    out: &Path,
+) -> (bool, String) {
+    let mut args: Vec<&std::ffi::OsStr> = vec![
+        "track".as_ref(),
+        video.as_os_str(),
+        "--bvh".as_ref(),
+        bvh.as_os_str(),
+        "--camera".as_ref(),
+        camera.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ];
+    if let Some(background) = background {
+        args.extend(["--background".as_ref(), background.as_os_str()]);
+    }
+    let output = embusen(&args);
+    (output.status.success(), String::from_utf8_lossy(&output.stderr).into_owned())
+}
+
 /// `embusen track` on a shared scene: the corrected BVH and one CSV row per
 /// video frame; and bad input as a message, never a panic.
 #[test]
@@ -177,76 +203,33 @@ fn track_writes_a_bvh_and_a_row_per_frame_and_refuses_bad_input() {
     let scene = data.join("optical");
     let dir = scratch_dir("cli");
     let out = dir.join("walk.tracked.bvh");
-    let path = |s: &str| scene.join(format!("walk{s}")).into_os_string();
-    let ok = embusen(&[
-        "track".as_ref(),
-        path(".mp4").as_ref(),
-        "--bvh".as_ref(),
-        path(".suit.bvh").as_ref(),
-        "--camera".as_ref(),
-        path(".camera.json").as_ref(),
-        "--background".as_ref(),
-        path(".background.png").as_ref(),
-        "-o".as_ref(),
-        out.as_os_str(),
-    ]);
-    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    let path = |s: &str| scene.join(format!("walk{s}"));
+    let (video, bvh, camera, background) =
+        (path(".mp4"), path(".suit.bvh"), path(".camera.json"), path(".background.png"));
+    let (ok, said) = track_cli(&video, &bvh, &camera, Some(&background), &out);
+    assert!(ok, "{said}");
     let csv = std::fs::read_to_string(dir.join("walk.tracked.track.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 195, "a header and one row per video frame");
     let tracked = Recording::parse(&std::fs::read(&out).unwrap(), "tracked", None).unwrap();
     assert_eq!(tracked.frame_count(), 195);
 
+    let refused = |(ok, said): (bool, String), expected: &str| {
+        assert!(
+            !ok && said.starts_with("error:") && said.contains(expected) && !said.contains("panicked"),
+            "{said}"
+        );
+    };
     // A camera for another image size.
-    let camera = std::fs::read_to_string(scene.join("walk.camera.json")).unwrap();
+    let text = std::fs::read_to_string(&camera).unwrap();
     let small = dir.join("small.camera.json");
-    std::fs::write(&small, camera.replace("\"width\": 640", "\"width\": 320")).unwrap();
-    let bad_size = embusen(&[
-        "track".as_ref(),
-        path(".mp4").as_ref(),
-        "--bvh".as_ref(),
-        path(".suit.bvh").as_ref(),
-        "--camera".as_ref(),
-        small.as_os_str(),
-        "--background".as_ref(),
-        path(".background.png").as_ref(),
-        "-o".as_ref(),
-        out.as_os_str(),
-    ]);
-    let said = String::from_utf8_lossy(&bad_size.stderr).into_owned();
-    assert!(!bad_size.status.success() && said.starts_with("error:") && said.contains("320"), "{said}");
+    std::fs::write(&small, text.replace("\"width\": 640", "\"width\": 320")).unwrap();
+    refused(track_cli(&video, &bvh, &small, Some(&background), &out), "320");
     // Not a video at all.
-    let not_video = embusen(&[
-        "track".as_ref(),
-        path(".suit.bvh").as_ref(),
-        "--bvh".as_ref(),
-        path(".suit.bvh").as_ref(),
-        "--camera".as_ref(),
-        path(".camera.json").as_ref(),
-        "--background".as_ref(),
-        path(".background.png").as_ref(),
-        "-o".as_ref(),
-        out.as_os_str(),
-    ]);
-    let said = String::from_utf8_lossy(&not_video.stderr).into_owned();
-    assert!(
-        !not_video.status.success() && said.starts_with("error:") && !said.contains("panicked"),
-        "{said}"
-    );
+    refused(track_cli(&bvh, &bvh, &camera, Some(&background), &out), "walk.suit.bvh");
     // A camera file without its lens matrix names the field.
     let broken = dir.join("broken.camera.json");
-    std::fs::write(&broken, camera.replacen("\"K\"", "\"not_K\"", 1)).unwrap();
-    let no_k = embusen(&[
-        "track".as_ref(),
-        path(".mp4").as_ref(),
-        "--bvh".as_ref(),
-        path(".suit.bvh").as_ref(),
-        "--camera".as_ref(),
-        broken.as_os_str(),
-        "-o".as_ref(),
-        out.as_os_str(),
-    ]);
-    let said = String::from_utf8_lossy(&no_k.stderr).into_owned();
-    assert!(!no_k.status.success() && said.contains('K'), "{said}");
+    std::fs::write(&broken, text.replacen("\"K\"", "\"not_K\"", 1)).unwrap();
+    refused(track_cli(&video, &bvh, &broken, None, &out), "K");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -154,6 +154,27 @@ impl Camera {
         (distance > 0.0).then(|| origin + direction * distance)
     }
 
+    /// An error for `label` (an image's name) unless it is `width_px ×
+    /// height_px`, the size of this camera's images.
+    pub fn check_image_size(
+        &self,
+        width_px: u32,
+        height_px: u32,
+        label: &str,
+    ) -> Result<(), crate::error::Error> {
+        let size = self.image_size;
+        if (width_px, height_px) == (size.width_px, size.height_px) {
+            return Ok(());
+        }
+        Err(crate::error::Error::whole(
+            label,
+            format!(
+                "is {width_px}×{height_px} px but the camera was calibrated for {}×{}",
+                size.width_px, size.height_px
+            ),
+        ))
+    }
+
     /// Whether `pixel` lies on the image (pixel centres at whole numbers).
     pub fn sees_pixel(&self, pixel: DVec2) -> bool {
         let (w, h) = (self.image_size.width_px as f64, self.image_size.height_px as f64);

@@ -177,15 +177,11 @@ pub struct Tracker {
 impl Tracker {
     pub fn new(setup: TrackSetup) -> Result<Tracker, Error> {
         let size = setup.camera.image_size;
-        if !setup.background.same_size(size.width_px, size.height_px) {
-            return Err(Error::whole(
-                "<background>",
-                format!(
-                    "is {}×{} but the camera's images are {}×{}",
-                    setup.background.width_px, setup.background.height_px, size.width_px, size.height_px
-                ),
-            ));
-        }
+        setup.camera.check_image_size(
+            setup.background.width_px,
+            setup.background.height_px,
+            "the background",
+        )?;
         if let TrackMethod::Paper(params) = &setup.method {
             params.check().map_err(|m| Error::whole("<paper tracker>", m))?;
         }
@@ -211,16 +207,7 @@ impl Tracker {
     pub fn push_frame(&mut self, frame: &GreyImage) -> Result<&TrackedFrame, Error> {
         let i = self.frames.len();
         let label = format!("video frame {i}");
-        let size = self.setup.camera.image_size;
-        if !frame.same_size(size.width_px, size.height_px) {
-            return Err(Error::whole(
-                &label,
-                format!(
-                    "is {}×{} but the camera's images are {}×{}",
-                    frame.width_px, frame.height_px, size.width_px, size.height_px
-                ),
-            ));
-        }
+        self.setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
         let time_s = i as f64 / self.setup.timing.fps;
         let instant = self.setup.suit.instant(self.setup.timing.bvh_time_s(i));
         let Some(body_cm) = self.setup.suit.body_at(instant) else {

@@ -206,16 +206,7 @@ fn prepare(
     method: TrackMethod,
     mut warnings: Vec<String>,
 ) -> Result<Session, Error> {
-    let size = camera.image_size;
-    if !background.same_size(size.width_px, size.height_px) {
-        return Err(Error::whole(
-            "<background>",
-            format!(
-                "is {}×{} px, the camera's images {}×{}",
-                background.width_px, background.height_px, size.width_px, size.height_px
-            ),
-        ));
-    }
+    camera.check_image_size(background.width_px, background.height_px, "the background")?;
     let suit = SuitMotion::new(&recording)?;
     let (video_fps, video_frames) = (timing.fps, timing.frame_count);
     for (first, last) in timing.frames_without_pose(&suit) {
@@ -332,18 +323,9 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
     let background = background(args.background.as_deref(), &args.video, args.fps, &mut warnings)?;
     let mut frames = Frames::open(&args.video, args.fps)?;
     let video_name = args.video.display().to_string();
-    let size = camera.image_size;
     let first = frames.next_frame().transpose()?;
     let Some(first) = first else { return Err(Error::whole(&video_name, "has no frames")) };
-    if !first.same_size(size.width_px, size.height_px) {
-        return Err(Error::whole(
-            &video_name,
-            format!(
-                "is {}×{} px but the camera was calibrated for {}×{}",
-                first.width_px, first.height_px, size.width_px, size.height_px
-            ),
-        ));
-    }
+    camera.check_image_size(first.width_px, first.height_px, &video_name)?;
     let mut frames = Frames::open(&args.video, args.fps)?;
     let session = prepare(
         recording,
