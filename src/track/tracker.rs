@@ -424,9 +424,12 @@ impl Tracker {
                 self.frames_without_pose
             ));
         }
+        let unseen: Vec<bool> =
+            frames.iter().map(|f| f.confidence == 0.0 && f.height_cm.is_finite()).collect();
         if self.frames_unseen > 0 {
             warnings.push(format!(
-                "the camera did not see the body well enough in {} of {} frames: the suit's motion carries them",
+                "the camera did not see the body well enough in video frames {} ({} of {}): the suit's motion carries them",
+                frame_ranges(&unseen),
                 self.frames_unseen,
                 frames.len()
             ));
@@ -434,6 +437,20 @@ impl Tracker {
         let mean_innovation = self.filter.as_ref().map_or(f64::NAN, |f| f.mean_innovation());
         Track { method: self.setup.method, frames, warnings, mean_innovation }
     }
+}
+
+/// The frames where `flags` holds, as ranges: `3–7, 12, 40–41`.
+fn frame_ranges(flags: &[bool]) -> String {
+    let mut ranges: Vec<(usize, usize)> = Vec::new();
+    for (i, _) in flags.iter().enumerate().filter(|(_, f)| **f) {
+        match ranges.last_mut() {
+            Some((_, last)) if *last + 1 == i => *last = i,
+            _ => ranges.push((i, i)),
+        }
+    }
+    let text: Vec<String> =
+        ranges.iter().map(|&(a, b)| if a == b { a.to_string() } else { format!("{a}–{b}") }).collect();
+    text.join(", ")
 }
 
 /// How far either side of a fit (cm) the energy is probed for its curvature.
@@ -492,4 +509,43 @@ fn measurement_covariance(
         return None;
     }
     Some(normal.inverse() * (sigma_px * sigma_px))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_ranges_name_runs_and_single_frames() {
+        let flags = [false, true, true, true, false, true, false, false, true, true];
+        assert_eq!(frame_ranges(&flags), "1–3, 5, 8–9");
+        assert_eq!(frame_ranges(&[false; 3]), "");
+    }
+
+    #[test]
+    fn the_covariance_of_a_camera_s_measurement_is_long_along_its_line_of_sight() {
+        // A camera on the -Z side looking along +Z at a body 5 m away: a
+        // floor shift across the view (x) moves the pixels far more than one
+        // along it (z).
+        let camera = Camera {
+            image_size: crate::camera::ImageSize { width_px: 640, height_px: 480 },
+            intrinsics: crate::camera::Intrinsics { fx_px: 500.0, fy_px: 500.0, cx_px: 319.5, cy_px: 239.5 },
+            distortion: crate::camera::Distortion::default(),
+            camera_from_world: glam::DAffine3::from_mat3_translation(
+                glam::DMat3::from_cols(DVec3::X, DVec3::NEG_Y, DVec3::Z),
+                DVec3::new(0.0, 150.0, -500.0),
+            )
+            .inverse(),
+        };
+        let body = PosedBody {
+            spheres: [0.0, 50.0, 100.0, 150.0]
+                .map(|y| crate::body::shape::Sphere { centre_cm: DVec3::new(0.0, y, 0.0), radius_cm: 10.0 })
+                .to_vec(),
+            cones: vec![(0, 1), (1, 2), (2, 3)],
+        };
+        let covariance = measurement_covariance(&camera, &body, DVec2::ZERO, 1.0).unwrap();
+        let (across, along) = (covariance.x_axis.x, covariance.y_axis.y);
+        assert!(along > 10.0 * across, "across {across} cm², along {along} cm²");
+        assert!((largest_sigma_cm(covariance) - along.sqrt()).abs() < 1e-6 * along.sqrt());
+    }
 }
