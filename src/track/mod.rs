@@ -5,6 +5,7 @@
 //! `body`, `camera`, `io` and `translate`.
 
 pub mod energy;
+pub mod offset;
 pub mod paper;
 pub mod search;
 pub mod silhouette;

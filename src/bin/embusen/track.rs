@@ -17,6 +17,7 @@ use embusen::io::image_file::{ImageSequence, open_png_grey};
 use embusen::io::recording::Recording;
 use embusen::io::video::{Ffmpeg, VideoFrames, sample_frames};
 use embusen::signal::stats::median;
+use embusen::track::offset::estimate_offset_s;
 use embusen::track::paper::PaperTrackParams;
 use embusen::track::suit_motion::{SuitMotion, VideoTiming};
 use embusen::track::tracker::{FusedParams, Track, TrackMethod, TrackSetup, Tracker};
@@ -67,6 +68,13 @@ pub struct TrackArgs {
     /// How far the BVH's clock runs ahead of the video's (s).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     offset_s: f64,
+    /// Refine --offset-s from the video itself, within a quarter of a
+    /// second either way (a stride takes at least half a second, so a
+    /// walk or run a whole stride out of step fits as well: give the offset
+    /// to that precision): track, find the offset at which the pose fits 60
+    /// frames spread over the take best, and track again at it.
+    #[arg(long)]
+    estimate_offset: bool,
     /// Frame rate of a folder of PNG frames.
     #[arg(long)]
     fps: Option<f64>,
@@ -230,7 +238,23 @@ fn prepare(
 /// Runs the tracker over `frames`; the milliseconds per frame it took (not
 /// counting the decoding).
 fn run_tracker(setup: TrackSetup, frames: &mut Frames, progress: bool) -> Result<(Track, f64), Error> {
+    run_tracker_keeping(setup, frames, progress, 0).map(|(track, ms, _)| (track, ms))
+}
+
+/// A video frame kept, with its index.
+type Sample = (usize, GreyImage);
+
+/// As [`run_tracker`], keeping `keep` frames spread over the video (with
+/// their indices).
+fn run_tracker_keeping(
+    setup: TrackSetup,
+    frames: &mut Frames,
+    progress: bool,
+    keep: usize,
+) -> Result<(Track, f64, Vec<Sample>), Error> {
     let count = frames.frame_count();
+    let every = if keep > 0 { count.div_ceil(keep).max(1) } else { usize::MAX };
+    let mut kept = Vec::new();
     let mut tracker = Tracker::new(setup)?;
     let bar =
         if progress { indicatif::ProgressBar::new(count as u64) } else { indicatif::ProgressBar::hidden() };
@@ -244,11 +268,15 @@ fn run_tracker(setup: TrackSetup, frames: &mut Frames, progress: bool) -> Result
         let started = Instant::now();
         tracker.push_frame(&frame)?;
         busy_s += started.elapsed().as_secs_f64();
+        let index = tracker.frame_count() - 1;
+        if index % every == 0 {
+            kept.push((index, frame));
+        }
         bar.inc(1);
     }
     bar.finish_and_clear();
     let n = tracker.frame_count().max(1);
-    Ok((tracker.finish(), 1000.0 * busy_s / n as f64))
+    Ok((tracker.finish(), 1000.0 * busy_s / n as f64, kept))
 }
 
 /// The hips per BVH frame from the track (the video's frames read at the
@@ -338,8 +366,27 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
     for w in &session.warnings {
         eprintln!("warning: {w}");
     }
-    let (suit, timing) = (session.setup.suit.clone(), session.setup.timing);
-    let (track, ms_per_frame) = run_tracker(session.setup, &mut frames, true)?;
+    let (suit, mut timing) = (session.setup.suit.clone(), session.setup.timing);
+    let keep = if args.estimate_offset { OFFSET_SAMPLES } else { 0 };
+    let setup = session.setup.clone();
+    let (mut track, mut ms_per_frame, kept) = run_tracker_keeping(session.setup, &mut frames, true, keep)?;
+    if args.estimate_offset {
+        match estimate_offset_s(&setup, &track, &kept, OFFSET_REACH_S) {
+            Some(estimate) => {
+                println!("estimated offset: the BVH runs {:.3} s ahead of the video", estimate.offset_s);
+                if (estimate.offset_s - timing.offset_s).abs() * timing.fps > 0.5 {
+                    timing.offset_s = estimate.offset_s;
+                    let mut again = setup;
+                    again.timing = timing;
+                    (track, ms_per_frame) =
+                        run_tracker(again, &mut Frames::open(&args.video, args.fps)?, true)?;
+                }
+            }
+            None => {
+                eprintln!("warning: the offset could not be estimated: no sampled frame had a pose to fit")
+            }
+        }
+    }
     for w in &track.warnings {
         eprintln!("warning: {w}");
     }
@@ -360,6 +407,13 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
     );
     Ok(())
 }
+
+/// How many frames the offset is estimated from.
+const OFFSET_SAMPLES: usize = 60;
+
+/// How far from the offset given the estimate may go (s): under half the
+/// shortest stride, whose repeat would fit as well.
+const OFFSET_REACH_S: f64 = 0.25;
 
 /// One scene's figures for one way of placing the hips.
 struct SceneRow {

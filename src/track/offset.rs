@@ -1,0 +1,157 @@
+//! The time offset between a video and its BVH, when the two were not
+//! started together: the offset at which the suit's pose, posed at the
+//! tracked positions, fits the video's frames best. A body whose limbs are
+//! a tenth of a second out of step with the video fits it visibly worse,
+//! so the fused energy over a few dozen frames spread across the take has
+//! its least at the true offset.
+
+use glam::{DVec2, DVec3};
+
+use crate::image::GreyImage;
+use crate::image::pipeline::features;
+use crate::track::energy::FrameTerms;
+use crate::track::search::coarse_to_fine;
+use crate::track::silhouette::SilhouetteRenderer;
+use crate::track::tracker::{FusedParams, Track, TrackSetup};
+
+/// How far around each tracked position the fit is searched for each
+/// offset tried (cm): the positions were tracked at another offset, and a
+/// body out of step sits a little elsewhere.
+const LOCAL_SEARCH_CM: f64 = 8.0;
+
+/// The offsets are tried this far apart (s): a limb a twentieth of a second
+/// out of step is visibly elsewhere in a brisk motion.
+const COARSE_STEP_S: f64 = 0.05;
+
+/// The parabola is fitted to the offsets this near the least (s).
+const PARABOLA_REACH_S: f64 = 0.25;
+
+/// The vertex of the least-squares parabola through `points` (x, y); `None`
+/// when fewer than three or it opens downwards.
+fn parabola_vertex(points: &[(f64, f64)]) -> Option<f64> {
+    if points.len() < 3 {
+        return None;
+    }
+    // Centred on the mean x for conditioning: y = a + b·u + c·u².
+    let mean_x = points.iter().map(|p| p.0).sum::<f64>() / points.len() as f64;
+    let mut m = [[0.0f64; 3]; 3];
+    let mut v = [0.0f64; 3];
+    for &(x, y) in points {
+        let u = x - mean_x;
+        let row = [1.0, u, u * u];
+        for i in 0..3 {
+            v[i] += row[i] * y;
+            for j in 0..3 {
+                m[i][j] += row[i] * row[j];
+            }
+        }
+    }
+    let det = |m: &[[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let d = det(&m);
+    if d.abs() < 1e-300 {
+        return None;
+    }
+    // Cramer's rule for b and c.
+    let solve = |k: usize| {
+        let mut mk = m;
+        for (row, value) in mk.iter_mut().zip(v) {
+            row[k] = value;
+        }
+        det(&mk) / d
+    };
+    let (b, c) = (solve(1), solve(2));
+    (c > 0.0).then(|| mean_x - b / (2.0 * c))
+}
+
+/// The offsets tried and what they cost.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OffsetEstimate {
+    /// The offset (s) to add to a video frame's time to read the BVH.
+    pub offset_s: f64,
+    /// Each offset tried (s) and the mean fused energy over the sampled
+    /// frames there (px).
+    pub tried: Vec<(f64, f64)>,
+}
+
+/// The offset within `±max_offset_s` of `setup.timing.offset_s` (that of
+/// `track`) at which the pose fits `samples` (video frame index, frame) at
+/// `track`'s positions best: tried every 0.05 s, then the vertex of the
+/// parabola through the offsets within 0.25 s of the least; `None` when no
+/// offset lets any sample be scored.
+pub fn estimate_offset_s(
+    setup: &TrackSetup,
+    track: &Track,
+    samples: &[(usize, GreyImage)],
+    max_offset_s: f64,
+) -> Option<OffsetEstimate> {
+    let params = FusedParams::default();
+    let mut renderer = SilhouetteRenderer::new(&setup.camera);
+    let terms: Vec<(usize, FrameTerms, DVec2)> = samples
+        .iter()
+        .filter_map(|(i, frame)| {
+            let tracked = track.frames.get(*i)?;
+            let f = features(frame, &setup.background, &setup.pipeline, "sample").ok()?;
+            let p = tracked.floor_cm;
+            let depth = setup.camera.point_in_camera(DVec3::new(p.x, 100.0, p.y)).z.max(50.0);
+            let truncation_px = (setup.camera.intrinsics.fx_px * params.truncation_cm / depth) as f32;
+            Some((
+                *i,
+                FrameTerms::new(&f.edge_distance, &f.outside_distance, &f.foreground, truncation_px.max(1.0)),
+                p,
+            ))
+        })
+        .collect();
+    let mut cost = |offset_s: f64| -> f64 {
+        let mut total = 0.0;
+        let mut scored = 0usize;
+        for (i, frame_terms, p) in &terms {
+            let time_s = *i as f64 / setup.timing.fps + offset_s;
+            let Some(body_cm) = setup.suit.body_at(setup.suit.instant(time_s)) else { continue };
+            let Ok(body) = setup.shape.pose(&body_cm, DVec3::ZERO) else { continue };
+            let best = coarse_to_fine(*p, LOCAL_SEARCH_CM, 1.0, |q| {
+                let silhouette = renderer.render(&body, DVec3::new(q.x, 0.0, q.y));
+                frame_terms.fit(&silhouette).map_or(f64::NAN, |fit| fit.fused_energy(params.mask_weight))
+            });
+            if let Some((_, e)) = best {
+                total += e;
+                scored += 1;
+            }
+        }
+        // An offset that leaves most samples without a pose says little.
+        if scored * 2 < terms.len().max(1) { f64::INFINITY } else { total / scored as f64 }
+    };
+    let centre = setup.timing.offset_s;
+    let count = (max_offset_s / COARSE_STEP_S).round().max(0.0) as i64;
+    let tried: Vec<(f64, f64)> =
+        (-count..=count).map(|k| centre + k as f64 * COARSE_STEP_S).map(|o| (o, cost(o))).collect();
+    let (best, _) =
+        tried.iter().copied().filter(|(_, e)| e.is_finite()).min_by(|a, b| a.1.total_cmp(&b.1))?;
+    // The cost is a sum over frames of fits that each err a little: the
+    // vertex of the parabola through the offsets near the least is steadier
+    // than the least itself.
+    let near: Vec<(f64, f64)> = tried
+        .iter()
+        .copied()
+        .filter(|(o, e)| e.is_finite() && (o - best).abs() <= PARABOLA_REACH_S)
+        .collect();
+    let offset_s = parabola_vertex(&near).filter(|v| (v - best).abs() <= PARABOLA_REACH_S).unwrap_or(best);
+    Some(OffsetEstimate { offset_s, tried })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_vertex_of_a_parabola_through_noisy_points() {
+        let points: Vec<(f64, f64)> =
+            (0..11).map(|k| 0.1 * k as f64).map(|x| (x, 2.0 + 3.0 * (x - 0.37) * (x - 0.37))).collect();
+        assert!((parabola_vertex(&points).unwrap() - 0.37).abs() < 1e-9);
+        let hill: Vec<(f64, f64)> = points.iter().map(|&(x, y)| (x, -y)).collect();
+        assert_eq!(parabola_vertex(&hill), None);
+        assert_eq!(parabola_vertex(&points[..2]), None);
+    }
+}
