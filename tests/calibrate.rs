@@ -177,3 +177,56 @@ fn bad_input_is_a_clear_message() {
     assert!(e.contains("marker_cm"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `embusen calibrate --floor-corners`, by hand: the board's outline (210 ×
+/// 150 cm at the origin) projected with each true camera and given as four
+/// clicks, with the true focal length and without. The four-point model has
+/// no lens distortion nor principal-point offset, which these cameras have:
+/// the centre comes back within a few centimetres, not to the board's mm.
+#[test]
+fn four_floor_corners_give_the_camera_by_hand() {
+    let Some(data) = common::data_dir() else { return };
+    let dir = scratch("by-hand");
+    for scene in SCENES {
+        let path = data.join("optical").join(format!("{scene}.camera.json"));
+        let truth = Camera::from_json(&std::fs::read_to_string(&path).unwrap(), scene).unwrap();
+        let clicks: Vec<String> = [(0.0, 0.0), (210.0, 0.0), (210.0, 150.0), (0.0, 150.0)]
+            .map(|(x, z)| truth.point_in_image(DVec3::new(x, 0.0, z)).unwrap())
+            .iter()
+            .map(|p| format!("{},{}", p.x, p.y))
+            .collect();
+        let out = dir.join(format!("{scene}.camera.json"));
+        let size = format!("{}x{}", truth.image_size.width_px, truth.image_size.height_px);
+        let focal = truth.intrinsics.fx_px.to_string();
+        let mut args = vec!["calibrate", "--floor-corners"];
+        args.extend(clicks.iter().map(String::as_str));
+        args.extend(["--rectangle-cm", "210x150", "--image-size", &size, "-o", out.to_str().unwrap()]);
+        for extra in [vec!["--focal-px", focal.as_str()], vec![]] {
+            let mut args = args.clone();
+            args.extend(extra.iter().copied());
+            let run = embusen(&args);
+            assert!(run.status.success(), "{args:?}: {}", text(&run.stderr));
+            let camera = Camera::from_json(&std::fs::read_to_string(&out).unwrap(), scene).unwrap();
+            let off = (camera.center_in_world() - truth.center_in_world()).length();
+            eprintln!("{scene} by hand {extra:?}: centre {off:.2} cm off");
+            assert!(off < 10.0, "{scene} {extra:?}: centre {off:.2} cm off");
+        }
+    }
+    // Three corners in a line are refused with a message.
+    let run = embusen(&[
+        "calibrate",
+        "--floor-corners",
+        "10,10",
+        "20,20",
+        "30,30",
+        "10,40",
+        "--rectangle-cm",
+        "210x150",
+        "--image-size",
+        "640x480",
+        "-o",
+        dir.join("bad.json").to_str().unwrap(),
+    ]);
+    let said = text(&run.stderr);
+    assert!(!run.status.success() && said.starts_with("error: floor rectangle"), "{said}");
+}

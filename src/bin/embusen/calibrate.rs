@@ -10,16 +10,36 @@ use embusen::camera::calibrate::{
     BoardView, Calibration, LensFit, calibrate_one_view, calibrate_pose, calibrate_views,
 };
 use embusen::camera::charuco::{Detection, detect};
+use embusen::camera::floor_rectangle::SOURCE;
 use embusen::camera::rotation::rodrigues_from_rotation;
-use embusen::camera::{Camera, ImageSize};
+use embusen::camera::{Camera, FloorRectangle, FocalLength, ImageSize};
+use glam::DVec2;
 
 #[derive(clap::Args)]
 pub struct CalibrateArgs {
     /// Stills of the board (PNG). With --intrinsics, one; without, one (the
     /// principal point assumed at the image centre) or several views of the
     /// board (Zhang's method; the camera written is posed at the first).
-    #[arg(required = true)]
+    #[arg(required_unless_present = "floor_corners")]
     stills: Vec<PathBuf>,
+    /// By hand instead of a board: the pixels of the four corners of a
+    /// known rectangle on the floor, in the order origin, along world +X,
+    /// the far corner, along world +Z (`X,Y X,Y X,Y X,Y`).
+    #[arg(long, num_args = 4, value_name = "X,Y", value_parser = parse_pixel, requires = "rectangle_cm")]
+    floor_corners: Vec<(f64, f64)>,
+    /// The floor rectangle's size: along +X × along +Z (cm), e.g. 210x150.
+    #[arg(long, value_name = "WxD", value_parser = parse_size_cm)]
+    rectangle_cm: Option<(f64, f64)>,
+    /// With --floor-corners and no still to read it from: the image's size (px).
+    #[arg(long, value_name = "WxH", value_parser = parse_squares)]
+    image_size: Option<(u32, u32)>,
+    /// With --floor-corners: the focal length (px); without it or
+    /// --hfov-deg, it is estimated from the four corners.
+    #[arg(long)]
+    focal_px: Option<f64>,
+    /// With --floor-corners: the horizontal field of view (degrees).
+    #[arg(long, conflicts_with = "focal_px")]
+    hfov_deg: Option<f64>,
     /// The camera's lens, from a camera.json: only the pose is fitted.
     #[arg(long, value_name = "CAMERA.json")]
     intrinsics: Option<PathBuf>,
@@ -52,7 +72,62 @@ fn parse_squares(text: &str) -> Result<(u32, u32), String> {
     Ok((number(x)?, number(y)?))
 }
 
+fn parse_pixel(text: &str) -> Result<(f64, f64), String> {
+    let bad = || format!("expected a pixel X,Y such as 120.5,380, not {text:?}");
+    let (x, y) = text.split_once(',').ok_or_else(bad)?;
+    let number = |s: &str| s.trim().parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(bad);
+    Ok((number(x)?, number(y)?))
+}
+
+fn parse_size_cm(text: &str) -> Result<(f64, f64), String> {
+    let bad = || format!("expected WxD in cm such as 210x150, not {text:?}");
+    let (w, d) = text.split_once(['x', 'X', '×']).ok_or_else(bad)?;
+    let number = |s: &str| s.trim().parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(bad);
+    Ok((number(w)?, number(d)?))
+}
+
+/// The camera from four clicked floor corners (`camera::floor_rectangle`).
+fn calibrate_by_hand(args: &CalibrateArgs) -> Result<(), Error> {
+    let size = match (args.image_size, args.stills.first()) {
+        (Some((width_px, height_px)), _) => ImageSize { width_px, height_px },
+        (None, Some(still)) => read_grey_png(still, &file_name(still))?.1,
+        (None, None) => {
+            return Err(Error::whole(SOURCE, "give --image-size (or a still to read it from)"));
+        }
+    };
+    let (width_cm, depth_cm) = args.rectangle_cm.unwrap_or((0.0, 0.0));
+    let corners: Vec<DVec2> = args.floor_corners.iter().map(|&(x, y)| DVec2::new(x, y)).collect();
+    let corners: [DVec2; 4] =
+        corners.try_into().map_err(|_| Error::whole(SOURCE, "give exactly four --floor-corners"))?;
+    let focal = match (args.focal_px, args.hfov_deg) {
+        (Some(px), _) => FocalLength::Px(px),
+        (None, Some(deg)) => FocalLength::HorizontalFovDeg(deg),
+        (None, None) => FocalLength::Unknown,
+    };
+    let fit = FloorRectangle { width_cm, depth_cm }.calibrate(size, corners, focal)?;
+    let c = fit.camera.center_in_world();
+    println!(
+        "floor rectangle: reprojection error {:.3} px rms; camera centre (world, cm): {:.2} {:.2} {:.2}; focal {:.1} px",
+        fit.reprojection_rms_px, c.x, c.y, c.z, fit.camera.intrinsics.fx_px
+    );
+    println!("  one pixel of click error moves the camera centre by {:.1} cm", fit.center_sigma_cm_per_px);
+    let out = file_name(&args.output);
+    std::fs::write(&args.output, fit.camera.to_json())
+        .map_err(|e| Error::whole(&out, format!("cannot write: {e}")))?;
+    println!("wrote {out}");
+    Ok(())
+}
+
 pub fn run(args: &CalibrateArgs) -> ExitCode {
+    if !args.floor_corners.is_empty() {
+        return match calibrate_by_hand(args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::FAILURE
+            }
+        };
+    }
     let flags = [args.squares.is_some(), args.square_cm.is_some(), args.marker_cm.is_some()];
     if flags.iter().any(|f| *f) && !flags.iter().all(|f| *f) {
         eprintln!("error: a board from flags needs --squares, --square-cm and --marker-cm together");
