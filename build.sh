@@ -97,7 +97,7 @@ cmd_test() {
     node_modules/.bin/tsc -p tsconfig.json
     ensure_chromium
     CHROMEDRIVER=/usr/bin/chromedriver WASM_BINDGEN_TEST_TIMEOUT=120 \
-        cargo test --release --target "$WASM_TARGET" --test wasm --test image
+        cargo test --release --target "$WASM_TARGET" --test wasm --test image --test track_browser
     node --test tests/browser/app.test.mjs
 }
 

@@ -1,6 +1,7 @@
 //! Shared helpers for the integration tests.
 #![allow(dead_code)]
 
+pub mod filmed;
 pub mod image_scene;
 
 use std::io::Write;
