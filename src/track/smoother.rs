@@ -210,20 +210,13 @@ impl FloorFilter {
             // learnt of the suit's steps stands.
             frame.state.x = measured_cm.x;
             frame.state.y = measured_cm.y;
-            let mut covariance = frame.covariance;
-            for column in [&mut covariance.x_axis, &mut covariance.y_axis] {
-                column.z = 0.0;
-                column.w = 0.0;
-            }
-            covariance.z_axis.x = 0.0;
-            covariance.z_axis.y = 0.0;
-            covariance.w_axis.x = 0.0;
-            covariance.w_axis.y = 0.0;
-            covariance.x_axis.x = covariance_cm2.x_axis.x;
-            covariance.x_axis.y = covariance_cm2.x_axis.y;
-            covariance.y_axis.x = covariance_cm2.y_axis.x;
-            covariance.y_axis.y = covariance_cm2.y_axis.y;
-            frame.covariance = covariance;
+            let (r, map) = (covariance_cm2, frame.covariance);
+            frame.covariance = DMat4::from_cols(
+                DVec4::new(r.x_axis.x, r.x_axis.y, 0.0, 0.0),
+                DVec4::new(r.y_axis.x, r.y_axis.y, 0.0, 0.0),
+                DVec4::new(0.0, 0.0, map.z_axis.z, map.z_axis.w),
+                DVec4::new(0.0, 0.0, map.w_axis.z, map.w_axis.w),
+            );
             return outcome;
         }
         // K = P Hᵀ S⁻¹, H taking the position: P Hᵀ is P's first two columns.

@@ -169,9 +169,6 @@ pub struct Tracker {
     /// The paper's chosen positions, unsmoothed.
     paper_path: Vec<DVec2>,
     frames: Vec<TrackedFrame>,
-    /// The video frames with no pose, and those where the body was not seen.
-    frames_without_pose: usize,
-    frames_unseen: usize,
 }
 
 impl Tracker {
@@ -193,8 +190,6 @@ impl Tracker {
             filter: None,
             paper_path: Vec::new(),
             frames: Vec::new(),
-            frames_without_pose: 0,
-            frames_unseen: 0,
         })
     }
 
@@ -211,7 +206,6 @@ impl Tracker {
         let time_s = i as f64 / self.setup.timing.fps;
         let instant = self.setup.suit.instant(self.setup.timing.bvh_time_s(i));
         let Some(body_cm) = self.setup.suit.body_at(instant) else {
-            self.frames_without_pose += 1;
             let floor_cm = self.frames.last().map_or(DVec2::ZERO, |f| f.floor_cm);
             self.paper_path.push(floor_cm);
             if let Some(filter) = &mut self.filter {
@@ -234,11 +228,19 @@ impl Tracker {
             TrackMethod::Paper(params) => self.paper_frame(&params, &body, &features),
             TrackMethod::Fused(params) => self.fused_frame(&params, &body, &features, instant, i),
         };
-        if tracked.confidence == 0.0 {
-            self.frames_unseen += 1;
-        }
         self.frames.push(TrackedFrame { time_s, height_cm, ..tracked });
         Ok(&self.frames[i])
+    }
+
+    /// The fused energy of `body` at `floor_cm`; NaN where it is not in the image.
+    fn fused_energy(
+        &mut self,
+        terms: &FrameTerms,
+        body: &PosedBody,
+        floor_cm: DVec2,
+        mask_weight: f64,
+    ) -> f64 {
+        self.render_fit(terms, body, floor_cm).map_or(f64::NAN, |f| f.fused_energy(mask_weight))
     }
 
     fn render_fit(&mut self, terms: &FrameTerms, body: &PosedBody, floor_cm: DVec2) -> Option<Fit> {
@@ -317,7 +319,7 @@ impl Tracker {
             truncation_px.max(1.0),
         );
         let found = coarse_to_fine(prediction, radius_cm, params.resolution_cm, |p| {
-            self.render_fit(&terms, body, p).map_or(f64::NAN, |f| f.fused_energy(params.mask_weight))
+            self.fused_energy(&terms, body, p, params.mask_weight)
         });
         let fit = found.and_then(|(p, _)| self.render_fit(&terms, body, p).map(|fit| (p, fit)));
         let reacquire_after = ((params.reacquire_after_s / dt).round() as usize).max(1);
@@ -329,9 +331,6 @@ impl Tracker {
         {
             let sigma_px = params.match_sigma_px / fit.confidence();
             let geometric = measurement_covariance(&camera, body, p, sigma_px);
-            let energy = |tracker: &mut Tracker, q: DVec2| {
-                tracker.render_fit(&terms, body, q).map_or(f64::NAN, |f| f.fused_energy(params.mask_weight))
-            };
             let centre = camera.center_in_world();
             let along = (p - DVec2::new(centre.x, centre.z)).normalize_or(DVec2::X);
             let across = along.perp();
@@ -339,7 +338,10 @@ impl Tracker {
             let h = CURVATURE_STEP_CM;
             let mut sigma2 = [0.0; 2];
             for (k, u) in [along, across].into_iter().enumerate() {
-                let (plus, minus) = (energy(self, p + u * h), energy(self, p - u * h));
+                let (plus, minus) = (
+                    self.fused_energy(&terms, body, p + u * h, params.mask_weight),
+                    self.fused_energy(&terms, body, p - u * h, params.mask_weight),
+                );
                 let curvature = (plus + minus - 2.0 * e0) / (h * h);
                 // The energy is a mean over the contour; it is as uncertain
                 // as `ENERGY_NOISE_PX`, which moves the minimum by σ with
@@ -417,20 +419,21 @@ impl Tracker {
         for (frame, p) in frames.iter_mut().skip(offset).zip(smoothed) {
             frame.floor_cm = p;
         }
+        // A frame without a pose has no height; one the camera did not see
+        // has no confidence.
         let mut warnings = Vec::new();
-        if self.frames_without_pose > 0 {
-            warnings.push(format!(
-                "{} video frames have no pose in the BVH (outside its time span)",
-                self.frames_without_pose
-            ));
+        let without_pose = frames.iter().filter(|f| f.height_cm.is_nan()).count();
+        if without_pose > 0 {
+            warnings
+                .push(format!("{without_pose} video frames have no pose in the BVH (outside its time span)"));
         }
         let unseen: Vec<bool> =
             frames.iter().map(|f| f.confidence == 0.0 && f.height_cm.is_finite()).collect();
-        if self.frames_unseen > 0 {
+        let unseen_count = unseen.iter().filter(|&&u| u).count();
+        if unseen_count > 0 {
             warnings.push(format!(
-                "the camera did not see the body well enough in video frames {} ({} of {}): the suit's motion carries them",
+                "the camera did not see the body well enough in video frames {} ({unseen_count} of {}): the suit's motion carries them",
                 frame_ranges(&unseen),
-                self.frames_unseen,
                 frames.len()
             ));
         }
