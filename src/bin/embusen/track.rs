@@ -123,6 +123,14 @@ impl Frames {
         }
     }
 
+    /// The frames' size (px): as ffprobe reports it, or the first PNG's.
+    fn size_px(&self) -> Result<(u32, u32), Error> {
+        match self {
+            Frames::Video(v) => Ok((v.info.width_px, v.info.height_px)),
+            Frames::Sequence { sequence, .. } => sequence.frame(0).map(|f| (f.width_px, f.height_px)),
+        }
+    }
+
     fn frame_count(&self) -> usize {
         match self {
             Frames::Video(v) => v.info.frame_count,
@@ -347,14 +355,15 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
         }
         (None, None) => return Err(Error::whole("embusen track", "give --camera or --board")),
     };
-    let mut warnings = Vec::new();
-    let background = background(args.background.as_deref(), &args.video, args.fps, &mut warnings)?;
     let mut frames = Frames::open(&args.video, args.fps)?;
     let video_name = args.video.display().to_string();
-    let first = frames.next_frame().transpose()?;
-    let Some(first) = first else { return Err(Error::whole(&video_name, "has no frames")) };
-    camera.check_image_size(first.width_px, first.height_px, &video_name)?;
-    let mut frames = Frames::open(&args.video, args.fps)?;
+    if frames.frame_count() == 0 {
+        return Err(Error::whole(&video_name, "has no frames"));
+    }
+    let (width_px, height_px) = frames.size_px()?;
+    camera.check_image_size(width_px, height_px, &video_name)?;
+    let mut warnings = Vec::new();
+    let background = background(args.background.as_deref(), &args.video, args.fps, &mut warnings)?;
     let session = prepare(
         recording,
         camera,
@@ -493,14 +502,15 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
             errors: track_errors(&suit_floor, &truth_floor),
             ms_per_frame: 0.0,
         });
+        let mut background_warnings = Vec::new();
+        let room = background(
+            background_still.is_file().then_some(background_still.as_path()),
+            &video,
+            None,
+            &mut background_warnings,
+        )?;
         for method in [TrackMethodArg::Paper, TrackMethodArg::Fused] {
-            let mut warnings = Vec::new();
-            let background = background(
-                background_still.is_file().then_some(background_still.as_path()),
-                &video,
-                None,
-                &mut warnings,
-            )?;
+            let (background, warnings) = (room.clone(), background_warnings.clone());
             let mut frames = Frames::open(&video, None)?;
             let session = prepare(
                 recording.clone(),
