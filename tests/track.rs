@@ -8,7 +8,7 @@
 mod common;
 
 use common::filmed::{film, mean_error_cm, run, setup, track};
-use embusen::camera::{Camera, ImageSize};
+use embusen::camera::ImageSize;
 use embusen::image::GreyImage;
 use embusen::io::bvh::Bvh;
 use embusen::io::recording::Recording;
@@ -155,31 +155,25 @@ fn track_writes_a_bvh_and_a_row_per_frame_and_refuses_bad_input() {
 fn shared_scene_errors() -> Option<&'static Vec<(String, f64, f64)>> {
     use embusen::eval::track::track_errors;
     use embusen::io::hips_csv::parse_hips_csv;
-    use embusen::io::image_file::open_png_grey;
-    use embusen::io::video::Ffmpeg;
     static ALL: std::sync::OnceLock<Vec<(String, f64, f64)>> = std::sync::OnceLock::new();
     let dir = common::data_dir()?.join("optical");
     Some(ALL.get_or_init(|| {
         ["walk", "walk_turns", "run", "slash"]
             .iter()
             .map(|name| {
-                let path = |s: &str| dir.join(format!("{name}{s}"));
-                let camera =
-                    Camera::from_json(&std::fs::read_to_string(path(".camera.json")).unwrap(), name).unwrap();
-                let recording =
-                    Recording::parse(&std::fs::read(path(".suit.bvh")).unwrap(), name, None).unwrap();
-                let truth =
-                    parse_hips_csv(&std::fs::read_to_string(path(".truth.csv")).unwrap(), name).unwrap();
+                let scene = common::optical::open_scene(&dir, name);
+                let truth_path = dir.join(format!("{name}.truth.csv"));
+                let truth = parse_hips_csv(&std::fs::read_to_string(truth_path).unwrap(), name).unwrap();
                 let truth: Vec<DVec2> = truth.iter().map(|s| DVec2::new(s.hips_cm.x, s.hips_cm.z)).collect();
-                let background = open_png_grey(&path(".background.png")).unwrap();
-                let mut video = Ffmpeg::default().open(&path(".mp4")).unwrap();
-                let fps = video.info.fps;
-                let mut frames = Vec::new();
-                while let Some(frame) = video.next_frame() {
-                    frames.push(frame.unwrap());
-                }
                 let mean = |method| {
-                    let track = track(&recording, camera, &background, &frames, fps, method);
+                    let track = track(
+                        &scene.recording,
+                        scene.camera,
+                        &scene.background,
+                        &scene.frames,
+                        scene.fps,
+                        method,
+                    );
                     let floor: Vec<DVec2> = track.frames.iter().map(|f| f.floor_cm).collect();
                     track_errors(&floor, &truth).mean_cm
                 };

@@ -3,6 +3,8 @@
 
 pub mod filmed;
 pub mod image_scene;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod optical;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
