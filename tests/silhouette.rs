@@ -400,3 +400,48 @@ fn the_true_pose_covers_the_actor_in_the_shared_scenes() {
         "mean IoUs, shares on the actor: {means:?}"
     );
 }
+
+/// The fused energy's band term (`FrameTerms::fit_in_band`): a body the
+/// actor's size leaves its band on the empty room; one too small leaves it
+/// partly on the actor, about by how much it falls short in pixels.
+#[test]
+fn the_band_term_sees_a_body_too_small_for_the_actor() {
+    use embusen::image::Mask;
+    use embusen::image::distance::distance_to;
+    use embusen::track::energy::FrameTerms;
+    let camera = look_at(
+        DVec3::new(0.0, 100.0, -400.0),
+        DVec3::new(0.0, 100.0, 0.0),
+        VGA,
+        500.0,
+        Distortion::default(),
+    );
+    let ball = |radius_cm: f64| PosedBody {
+        spheres: vec![Sphere { centre_cm: DVec3::new(0.0, 100.0, 0.0), radius_cm }],
+        cones: Vec::new(),
+    };
+    // The actor: a ball of 30 cm, about 37.5 px across the image at 4 m.
+    let actor = silhouette(&camera, &ball(30.0), DVec3::ZERO).image_mask();
+    let foreground = Mask {
+        width_px: VGA.width_px,
+        height_px: VGA.height_px,
+        on: actor.iter().map(|&m| m == 1).collect(),
+    };
+    let terms = FrameTerms::new(&distance_to(&foreground), &distance_to(&foreground), &foreground, 10.0);
+    let band_cm = 5.0;
+    let band_px = 500.0 * band_cm / 400.0;
+    let uncovered = |radius_cm: f64| {
+        let body = silhouette(&camera, &ball(radius_cm), DVec3::ZERO);
+        let widened = silhouette(&camera, &ball(radius_cm + band_cm), DVec3::ZERO);
+        terms.fit_in_band(&body, &widened, band_px).unwrap().uncovered_px
+    };
+    let (exact, short) = (uncovered(30.0), uncovered(27.0));
+    // 3 cm short at 4 m is 3.75 px; the band's outer rings are longer than
+    // its inner ones, so a little less of it is on the actor.
+    assert!(exact < 0.1, "a body the actor's size: {exact} px");
+    assert!((2.5..=3.75).contains(&short), "a body 3.75 px too small: {short} px");
+    assert!(uncovered(20.0) > short, "smaller still");
+    // Without a band there is no such term.
+    let body = silhouette(&camera, &ball(27.0), DVec3::ZERO);
+    assert_eq!(terms.fit(&body).unwrap().uncovered_px, 0.0);
+}

@@ -323,6 +323,21 @@ impl BodyShape {
         }
     }
 
+    /// `posed` (a pose of this shape) with `band_cm` more on the radius of
+    /// every sphere but those of the knees, ankles and feet: the outline of
+    /// a band around the body that narrows to nothing at the ankles, so it
+    /// never reaches the floor by the feet, where the body's cast shadow and
+    /// its contact lie.
+    pub fn widened(&self, posed: &PosedBody, band_cm: f64) -> PosedBody {
+        let mut widened = posed.clone();
+        for (sphere, shape) in widened.spheres.iter_mut().zip(&self.spheres) {
+            if !matches!(shape.part, Part::Knee | Part::Ankle | Part::Toes | Part::ToeTip) {
+                sphere.radius_cm += band_cm;
+            }
+        }
+        widened
+    }
+
     /// Multiplies the radius of every sphere of `part` by `factor`.
     pub fn scale_part(&mut self, part: Part, factor: f64) {
         for sphere in self.spheres.iter_mut().filter(|s| s.part == part) {

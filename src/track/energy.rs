@@ -11,6 +11,13 @@
 //!   foreground mask: a silhouette that slides off the actor onto the
 //!   room's edges pays for every pixel it puts on the empty room. A cast
 //!   shadow is foreground, so it costs nothing to cover and does not pull.
+//!   Both terms are one-sided: a silhouette too *small* sits inside the
+//!   actor, its contour on the clothes' and limbs' inner edges, and pays
+//!   almost nothing — and along the camera's line of sight a body farther
+//!   away is a body smaller. So the fused energy has a third term, the
+//!   foreground the silhouette leaves **uncovered** in a band just outside
+//!   it (`FrameTerms::fit_in_band`): what keeps the silhouette as large as
+//!   the actor, and so at the actor's depth.
 
 use crate::image::{DistanceImage, Mask};
 use crate::track::silhouette::Silhouette;
@@ -46,6 +53,10 @@ pub struct Fit {
     pub near_edge_share: f64,
     /// The share of the silhouette's area on the foreground.
     pub on_foreground_share: f64,
+    /// The share of a band just outside the silhouette that is foreground,
+    /// times the band's width (px): about how far the actor reaches beyond
+    /// the silhouette. 0 when fitted without a band ([`FrameTerms::fit`]).
+    pub uncovered_px: f64,
 }
 
 /// A contour pixel this close to an edge (px) is on it, give or take the
@@ -104,14 +115,13 @@ impl FrameTerms {
             truncated += d.min(self.truncation_px) as f64;
             near += usize::from(d <= NEAR_EDGE_PX);
         }
-        let (mut outside, mut on_foreground, mut area) = (0.0f64, 0u64, 0u64);
+        let mut outside = 0.0f64;
         for span in &silhouette.spans {
             let row = span.row as usize * (w + 1);
-            let (a, b) = (row + span.start as usize, row + span.end as usize);
-            outside += self.outside_prefix[b] - self.outside_prefix[a];
-            on_foreground += (self.foreground_prefix[b] - self.foreground_prefix[a]) as u64;
-            area += (span.end - span.start) as u64;
+            outside +=
+                self.outside_prefix[row + span.end as usize] - self.outside_prefix[row + span.start as usize];
         }
+        let (on_foreground, area) = self.foreground_under(silhouette);
         let n = contour.len() as f64;
         Some(Fit {
             contour_px: contour.len(),
@@ -120,14 +130,49 @@ impl FrameTerms {
             outside_px: outside / area.max(1) as f64,
             near_edge_share: near as f64 / n,
             on_foreground_share: on_foreground as f64 / area.max(1) as f64,
+            uncovered_px: 0.0,
         })
+    }
+
+    /// How `silhouette` fits, with the foreground it leaves uncovered in the
+    /// band out to `widened` (the same body's silhouette with `band_px`
+    /// more all round it, [`crate::body::shape::BodyShape::widened`]): the
+    /// band's foreground share times `band_px`. A silhouette the actor's
+    /// size leaves its band on the empty room (0); one `e` px too small all
+    /// round leaves about `e / band_px` of it on the actor (`e` px).
+    pub fn fit_in_band(&self, silhouette: &Silhouette, widened: &Silhouette, band_px: f64) -> Option<Fit> {
+        let fit = self.fit(silhouette)?;
+        if widened.image_size != silhouette.image_size {
+            return Some(fit);
+        }
+        let (inner_on, inner_area) = self.foreground_under(silhouette);
+        let (outer_on, outer_area) = self.foreground_under(widened);
+        let band_area = outer_area.saturating_sub(inner_area);
+        let band_on = outer_on.saturating_sub(inner_on);
+        let uncovered_px = if band_area == 0 { 0.0 } else { band_on as f64 / band_area as f64 * band_px };
+        Some(Fit { uncovered_px, ..fit })
+    }
+
+    /// The foreground pixels under `silhouette`, and its area (px).
+    fn foreground_under(&self, silhouette: &Silhouette) -> (u64, u64) {
+        let w = self.width_px as usize;
+        let (mut on, mut area) = (0u64, 0u64);
+        for span in &silhouette.spans {
+            let row = span.row as usize * (w + 1);
+            on += (self.foreground_prefix[row + span.end as usize]
+                - self.foreground_prefix[row + span.start as usize]) as u64;
+            area += (span.end - span.start) as u64;
+        }
+        (on, area)
     }
 }
 
 impl Fit {
-    /// The fused energy with the area term weighed by `mask_weight`.
-    pub fn fused_energy(&self, mask_weight: f64) -> f64 {
-        self.truncated_chamfer_px + mask_weight * self.outside_px
+    /// The fused energy (px): the truncated contour distance, plus the area
+    /// off the foreground weighed by `mask_weight`, plus the uncovered band
+    /// weighed by `uncovered_weight`.
+    pub fn fused_energy(&self, mask_weight: f64, uncovered_weight: f64) -> f64 {
+        self.truncated_chamfer_px + mask_weight * self.outside_px + uncovered_weight * self.uncovered_px
     }
 
     /// How far the fit can be trusted, 0 to 1: the geometric mean of the

@@ -3,7 +3,8 @@
 //! tracked positions, fits the video's frames best. A body whose limbs are
 //! a tenth of a second out of step with the video fits it visibly worse,
 //! so the fused energy over a few dozen frames spread across the take has
-//! its least at the true offset.
+//! its least at the true offset. The energy's band term is left out: it is
+//! about the body's size, so its depth, not the pose's timing.
 
 use glam::{DVec2, DVec3};
 
@@ -113,7 +114,7 @@ pub fn estimate_offset_s(
             let Ok(body) = setup.shape.pose(&body_cm, DVec3::ZERO) else { continue };
             let best = coarse_to_fine(*p, LOCAL_SEARCH_CM, 1.0, |q| {
                 let silhouette = renderer.render(&body, DVec3::new(q.x, 0.0, q.y));
-                frame_terms.fit(&silhouette).map_or(f64::NAN, |fit| fit.fused_energy(params.mask_weight))
+                frame_terms.fit(&silhouette).map_or(f64::NAN, |fit| fit.fused_energy(params.mask_weight, 0.0))
             });
             if let Some((_, e)) = best {
                 total += e;

@@ -34,8 +34,10 @@ pub const GATE_SIGMAS: f64 = 4.0;
 pub const STEP_MAP_SIGMA: f64 = 0.15;
 
 /// How fast the similarity may change, per √s: the heading drifts over
-/// seconds, the stride error changes with the motion.
-pub const STEP_MAP_SIGMA_PER_SQRT_S: f64 = 0.03;
+/// seconds, and the stride error changes with the motion — a walk's strides
+/// 8 % short, a run's 22 % (docs/contact.md), within a second or two. (0.03
+/// learnt too slowly: walk 8.7, run 29.2 cm against 7.6 and 23.8 at 0.1.)
+pub const STEP_MAP_SIGMA_PER_SQRT_S: f64 = 0.1;
 
 /// One frame's filtered state and what it was predicted from.
 #[derive(Clone, Copy, Debug, PartialEq)]
