@@ -70,7 +70,7 @@ cmd_build() {
     wasm-bindgen --target web --out-dir dist/pkg \
         "target/$WASM_TARGET/release/embusen.wasm"
     # npm's binaryen: Debian's wasm-opt (108) breaks this module.
-    node_modules/.bin/wasm-opt -O3 --enable-bulk-memory --enable-nontrapping-float-to-int \
+    node_modules/.bin/wasm-opt -O3 --enable-simd --enable-bulk-memory --enable-nontrapping-float-to-int \
         --enable-sign-ext --enable-mutable-globals --enable-reference-types --enable-multivalue \
         dist/pkg/embusen_bg.wasm -o dist/pkg/embusen_bg.wasm
     cp www/*.html www/*.js www/*.css dist/
