@@ -248,6 +248,64 @@ impl Tracker {
         Ok(&self.frames[i])
     }
 
+    /// For evaluations only (a tracker knows no `around_cm`): the least of
+    /// the fused energy (the fused parameters of the setup, or the defaults)
+    /// in video frame `i`, tried every 2 cm along the camera's line of sight
+    /// through `around_cm` within `reach_cm` of it, and every 1 cm across
+    /// within 8 cm — how close the camera alone can place the body in that
+    /// frame when the truth is known. `None` where the BVH has no pose or
+    /// the body is nowhere in the image. Does not advance the tracker.
+    pub fn camera_oracle(
+        &mut self,
+        frame: &GreyImage,
+        i: usize,
+        around_cm: DVec2,
+        reach_cm: f64,
+    ) -> Result<Option<DVec2>, Error> {
+        let params = match self.setup.method {
+            TrackMethod::Fused(params) => params,
+            TrackMethod::Paper(_) => FusedParams::default(),
+        };
+        let label = format!("video frame {i}");
+        let camera = self.setup.camera;
+        camera.check_image_size(frame.width_px, frame.height_px, &label)?;
+        let instant = self.setup.suit.instant(self.setup.timing.bvh_time_s(i));
+        let Some(body_cm) = self.setup.suit.body_at(instant) else { return Ok(None) };
+        let body = self.setup.shape.pose(&body_cm, DVec3::ZERO)?;
+        let features = features(frame, &self.setup.background, &self.setup.pipeline, &label)?;
+        let depth_cm = camera.point_in_camera(DVec3::new(around_cm.x, 100.0, around_cm.y)).z.max(50.0);
+        let truncation_px = (camera.intrinsics.fx_px * params.truncation_cm / depth_cm) as f32;
+        let terms = FrameTerms::new(
+            &features.edge_distance,
+            &features.outside_distance,
+            &features.foreground,
+            truncation_px.max(1.0),
+        );
+        let banded = BandedBody {
+            widened: self.setup.shape.widened(&body, params.band_cm),
+            body,
+            band_px: if params.uncovered_weight > 0.0 {
+                camera.intrinsics.fx_px * params.band_cm / depth_cm
+            } else {
+                0.0
+            },
+        };
+        let centre = camera.center_in_world();
+        let along = (around_cm - DVec2::new(centre.x, centre.z)).normalize_or(DVec2::X);
+        let steps = (reach_cm / 2.0).ceil() as i32;
+        let mut best: Option<(DVec2, f64)> = None;
+        for a in -steps..=steps {
+            for b in -8..=8 {
+                let p = around_cm + along * (2.0 * a as f64) + along.perp() * b as f64;
+                let e = self.fused_energy(&terms, &banded, p, &params);
+                if e.is_finite() && best.is_none_or(|(_, least)| e < least) {
+                    best = Some((p, e));
+                }
+            }
+        }
+        Ok(best.map(|(p, _)| p))
+    }
+
     /// The fused energy of `body` at `floor_cm`; NaN where it is not in the image.
     fn fused_energy(
         &mut self,

@@ -97,6 +97,10 @@ pub struct EvalTrackArgs {
     /// Only the scenes with these names.
     #[arg(long, num_args = 1..)]
     only: Vec<String>,
+    /// Also the camera's best: per frame the least of the fused energy
+    /// searched densely around the true position (`oracle` rows; slow).
+    #[arg(long)]
+    camera_oracle: bool,
 }
 
 /// Frames from a video or a folder of PNGs.
@@ -473,6 +477,10 @@ fn scene_video(dir: &Path, name: &str) -> Result<PathBuf, Error> {
         })
 }
 
+/// How far along the line of sight `--camera-oracle` searches either side
+/// of the truth (cm): farther than any tracker here strays.
+const ORACLE_REACH_CM: f64 = 80.0;
+
 fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
     let mut rows: Vec<SceneRow> = Vec::new();
     for (dir, name) in scenes(&args.dirs, &args.only)? {
@@ -531,6 +539,35 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
             print_row(&row);
             rows.push(row);
         }
+        if args.camera_oracle {
+            let mut frames = Frames::open(&video, None)?;
+            let session = prepare(
+                recording.clone(),
+                camera,
+                room.clone(),
+                VideoTiming { fps: frames.fps(), frame_count: frames.frame_count(), offset_s: 0.0 },
+                TrackMethodArg::Fused.method(),
+                Vec::new(),
+            )?;
+            let mut tracker = Tracker::new(session.setup)?;
+            let started = Instant::now();
+            let mut floor = Vec::new();
+            let mut i = 0;
+            while let Some(frame) = frames.next_frame() {
+                let frame = frame?;
+                let Some(&around) = truth_floor.get(i) else { break };
+                floor.push(tracker.camera_oracle(&frame, i, around, ORACLE_REACH_CM)?.unwrap_or(DVec2::NAN));
+                i += 1;
+            }
+            let row = SceneRow {
+                scene: name.clone(),
+                method: "oracle",
+                errors: track_errors(&floor, &truth_floor),
+                ms_per_frame: 1e3 * started.elapsed().as_secs_f64() / floor.len().max(1) as f64,
+            };
+            print_row(&row);
+            rows.push(row);
+        }
     }
     println!();
     println!(
@@ -541,8 +578,11 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
         print_row(row);
     }
     println!("medians over the scenes:");
-    for method in ["suit", "paper", "fused"] {
+    for method in ["suit", "paper", "fused", "oracle"] {
         let of: Vec<&SceneRow> = rows.iter().filter(|r| r.method == method).collect();
+        if of.is_empty() {
+            continue;
+        }
         let m = |get: fn(&TrackErrors) -> f64| median(&of.iter().map(|r| get(&r.errors)).collect::<Vec<_>>());
         let errors = TrackErrors {
             mean_cm: m(|e| e.mean_cm),
