@@ -7,6 +7,7 @@
 pub mod energy;
 pub mod offset;
 pub mod paper;
+pub mod path;
 pub mod search;
 pub mod silhouette;
 pub mod smoother;

@@ -41,6 +41,7 @@ use crate::image::GreyImage;
 use crate::image::pipeline::{Features, PipelineParams, features};
 use crate::track::energy::{Fit, FrameTerms};
 use crate::track::paper::{PaperTrackParams, paper_smooth, paper_step};
+use crate::track::path::{PathFrame, best_path};
 use crate::track::search::coarse_to_fine;
 use crate::track::silhouette::{Silhouette, SilhouetteRenderer};
 use crate::track::smoother::{FloorFilter, Measurement};
@@ -84,6 +85,14 @@ pub struct FusedParams {
     /// enough to be many pixels at any distance, narrow enough to stay off
     /// a neighbouring limb or person.
     pub band_cm: f64,
+    /// The path search (`path`) tries candidates this far (cm) either side
+    /// of each frame's fit along the line of sight (0 turns it off) ...
+    pub path_reach_cm: f64,
+    /// ... this far apart (cm) ...
+    pub path_spacing_cm: f64,
+    /// ... and takes an energy this much (px) above the frame's least as
+    /// one nat of cost.
+    pub path_temperature_px: f64,
     /// Below this confidence a fit is not used.
     pub min_confidence: f64,
     /// After this long (s) of fits rejected as too far from the prediction,
@@ -107,6 +116,9 @@ impl Default for FusedParams {
             mask_weight: 1.0,
             uncovered_weight: 0.5,
             band_cm: 5.0,
+            path_reach_cm: 100.0,
+            path_spacing_cm: 4.0,
+            path_temperature_px: 0.025,
             min_confidence: 0.2,
             reacquire_after_s: 0.5,
             start_search_cm: 80.0,
@@ -183,6 +195,8 @@ pub struct Tracker {
     filter: Option<FloorFilter>,
     /// The paper's chosen positions, unsmoothed.
     paper_path: Vec<DVec2>,
+    /// The fused tracker's frames for the path search, one per frame.
+    path_frames: Vec<Option<PathRecord>>,
     frames: Vec<TrackedFrame>,
 }
 
@@ -205,6 +219,7 @@ impl Tracker {
             setup,
             filter: None,
             paper_path: Vec::new(),
+            path_frames: Vec::new(),
             frames: Vec::new(),
         })
     }
@@ -227,6 +242,7 @@ impl Tracker {
             if let Some(filter) = &mut self.filter {
                 filter.predict(DVec2::ZERO, 0.0);
             }
+            self.path_frames.push(None);
             self.frames.push(TrackedFrame {
                 time_s,
                 floor_cm,
@@ -379,6 +395,9 @@ impl Tracker {
     ) -> TrackedFrame {
         let camera = self.setup.camera;
         let dt = 1.0 / self.setup.timing.fps;
+        let before_cm = self.filter.as_ref().map(|f| f.current().0);
+        let mut step_cm = DVec2::ZERO;
+        let mut step_sigma_cm = f64::INFINITY;
         let (prediction, radius_cm) = match &mut self.filter {
             None => (self.first_guess(features, body), params.start_search_cm),
             Some(filter) => {
@@ -392,6 +411,7 @@ impl Tracker {
                     _ => DVec2::ZERO,
                 };
                 let sigma = params.stride_error * step.length() + params.drift_cm_per_s * dt;
+                (step_cm, step_sigma_cm) = (step, sigma);
                 let (predicted, covariance) = filter.predict(step, sigma);
                 let spread = largest_sigma_cm(covariance);
                 (predicted, (params.search_sigmas * spread).clamp(params.min_search_cm, params.max_search_cm))
@@ -422,6 +442,7 @@ impl Tracker {
         self.filter.get_or_insert_with(|| FloorFilter::new(prediction, radius_cm, dt, reacquire_after));
         let mut confidence = 0.0;
         let mut measured_cm = None;
+        let mut across_variance_cm2 = None;
         if let Some((p, fit)) = fit
             && fit.confidence() >= params.min_confidence
         {
@@ -457,6 +478,7 @@ impl Tracker {
                 .filter
                 .get_or_insert_with(|| FloorFilter::new(prediction, radius_cm, dt, reacquire_after));
             if let Some(covariance) = covariance {
+                across_variance_cm2 = Some(across.dot(covariance * across));
                 match filter.update(p, covariance) {
                     Measurement::Used | Measurement::Reacquired => {
                         confidence = fit.confidence();
@@ -465,6 +487,28 @@ impl Tracker {
                     Measurement::Rejected => {}
                 }
             }
+        }
+        if params.path_reach_cm > 0.0 && params.path_spacing_cm > 0.0 {
+            let base = measured_cm.or(fit.map(|(p, _)| p)).unwrap_or(prediction);
+            let centre = camera.center_in_world();
+            let along = (base - DVec2::new(centre.x, centre.z)).normalize_or(DVec2::X);
+            let steps = (params.path_reach_cm / params.path_spacing_cm).round() as i32;
+            let candidates_cm: Vec<DVec2> =
+                (-steps..=steps).map(|k| base + along * (k as f64 * params.path_spacing_cm)).collect();
+            let energies_px =
+                candidates_cm.iter().map(|&p| self.fused_energy(&terms, &banded, p, params)).collect();
+            self.path_frames.push(Some(PathRecord {
+                frame: PathFrame {
+                    candidates_cm,
+                    energies_px,
+                    expected_step_cm: before_cm.map_or(DVec2::ZERO, |b| prediction - b),
+                    step_sigma_cm,
+                },
+                inertial_step_cm: step_cm,
+                across_variance_cm2: across_variance_cm2
+                    .unwrap_or(MAX_MEASUREMENT_SIGMA_CM * MAX_MEASUREMENT_SIGMA_CM),
+                along,
+            }));
         }
         TrackedFrame {
             time_s: 0.0,
@@ -504,12 +548,72 @@ impl Tracker {
             .map_or(DVec2::ZERO, |(g, _)| g)
     }
 
+    /// The forward filter run again with the path search's choices as its
+    /// measurements (along the line of sight as uncertain as the candidates'
+    /// spacing, across as the fits were), ready for smoothing; `None` when
+    /// the search is off or had no frames.
+    fn path_search(&self, params: &FusedParams, first_pass: &FloorFilter) -> Option<FloorFilter> {
+        let start = self.path_frames.iter().position(|f| f.is_some())?;
+        let records = &self.path_frames[start..];
+        // `first_pass` starts at the first frame with a pose, as `records` do.
+        if records.len() != first_pass.frame_count() {
+            return None;
+        }
+        let frames: Vec<PathFrame> = records
+            .iter()
+            .map(|r| {
+                r.as_ref().map_or(
+                    PathFrame {
+                        candidates_cm: Vec::new(),
+                        energies_px: Vec::new(),
+                        expected_step_cm: DVec2::ZERO,
+                        step_sigma_cm: f64::INFINITY,
+                    },
+                    |r| r.frame.clone(),
+                )
+            })
+            .collect();
+        let chosen = best_path(&frames, params.path_temperature_px);
+        let dt = 1.0 / self.setup.timing.fps;
+        let reacquire_after = ((params.reacquire_after_s / dt).round() as usize).max(1);
+        let along_variance = params.path_spacing_cm * params.path_spacing_cm;
+        let measurement = |r: &PathRecord, k: usize| {
+            let across = r.along.perp();
+            let basis = DMat2::from_cols(r.along, across);
+            let covariance = basis
+                * DMat2::from_diagonal(DVec2::new(along_variance, r.across_variance_cm2))
+                * basis.transpose();
+            (r.frame.candidates_cm[k], covariance)
+        };
+        let first = records[0].as_ref()?;
+        let (start_cm, _) = measurement(first, chosen[0]);
+        let mut filter = FloorFilter::new(start_cm, params.path_spacing_cm, dt, reacquire_after);
+        for (record, &k) in records.iter().zip(&chosen).skip(1) {
+            match record {
+                None => {
+                    filter.predict(DVec2::ZERO, 0.0);
+                }
+                Some(r) => {
+                    filter.predict(r.inertial_step_cm, r.frame.step_sigma_cm);
+                    if r.frame.energies_px.iter().any(|e| e.is_finite()) {
+                        let (p, covariance) = measurement(r, k);
+                        filter.update(p, covariance);
+                    }
+                }
+            }
+        }
+        Some(filter)
+    }
+
     /// The track, smoothed.
-    pub fn finish(self) -> Track {
-        let mut frames = self.frames;
+    pub fn finish(mut self) -> Track {
+        let mut frames = std::mem::take(&mut self.frames);
         let smoothed: Vec<DVec2> = match (&self.setup.method, &self.filter) {
             (TrackMethod::Paper(params), _) => paper_smooth(&self.paper_path, params),
-            (TrackMethod::Fused(_), Some(filter)) => filter.smooth().into_iter().map(|(p, _)| p).collect(),
+            (TrackMethod::Fused(params), Some(filter)) => match self.path_search(params, filter) {
+                Some(searched) => searched.smooth().into_iter().map(|(p, _)| p).collect(),
+                None => filter.smooth().into_iter().map(|(p, _)| p).collect(),
+            },
             (TrackMethod::Fused(_), None) => frames.iter().map(|f| f.floor_cm).collect(),
         };
         // The filter starts at the first frame with a pose: align the ends.
@@ -538,6 +642,18 @@ impl Tracker {
         let mean_innovation = self.filter.as_ref().map_or(f64::NAN, |f| f.mean_innovation());
         Track { method: self.setup.method, frames, warnings, mean_innovation }
     }
+}
+
+/// What the path search keeps of one frame.
+#[derive(Clone, Debug)]
+struct PathRecord {
+    frame: PathFrame,
+    /// The suit's own step into this frame, as the forward filter took it.
+    inertial_step_cm: DVec2,
+    /// How uncertain the frame's fit was across the line of sight (cm²).
+    across_variance_cm2: f64,
+    /// The line of sight's direction on the floor.
+    along: DVec2,
 }
 
 /// One frame's body as the fused energy scores it: posed, widened by the

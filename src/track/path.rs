@@ -1,0 +1,127 @@
+//! The fused tracker's offline path search along the camera's lines of
+//! sight. The forward filter (`smoother`) carries one position per frame,
+//! so where the energy has two valleys along the line of sight — a body
+//! nearer and one farther that fit about as well — it stays in whichever it
+//! entered, and a standing actor's tiny inertial steps keep it there. Here
+//! every frame offers a line of candidates along its line of sight, and the
+//! path through them is chosen as a whole (Viterbi): a valley that fits
+//! better over many frames wins over one frame's better fit, and a jump the
+//! suit's steps cannot explain costs what it should.
+//!
+//! Costs, in nats: a candidate's energy above the frame's least, over
+//! `temperature_px` (the energy taken as the negative log-likelihood's
+//! scale); a move between frames, `|Δ − s|² / 2σ²` with `s` the expected
+//! (inertial) step and `σ` its uncertainty.
+
+use glam::DVec2;
+
+/// One frame's candidates and how the body was expected to move into it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PathFrame {
+    /// Floor positions (x, z, cm).
+    pub candidates_cm: Vec<DVec2>,
+    /// Their energies (px); NaN where the body is not in the image.
+    pub energies_px: Vec<f64>,
+    /// The step expected from the frame before (cm).
+    pub expected_step_cm: DVec2,
+    /// How far that step may be off (cm, one σ per axis); infinite where
+    /// nothing ties this frame to the one before.
+    pub step_sigma_cm: f64,
+}
+
+/// The least-cost path: per frame, the index of its chosen candidate
+/// (frames without candidates get 0).
+pub fn best_path(frames: &[PathFrame], temperature_px: f64) -> Vec<usize> {
+    let mut cost: Vec<f64> = Vec::new();
+    let mut from: Vec<Vec<usize>> = Vec::with_capacity(frames.len());
+    for (i, frame) in frames.iter().enumerate() {
+        let unary = unary_costs(&frame.energies_px, temperature_px);
+        let tied = i > 0 && frame.step_sigma_cm.is_finite() && !cost.is_empty();
+        let mut next = vec![0.0; unary.len()];
+        let mut back = vec![0usize; unary.len()];
+        let best_before = cost.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1)).map(|(j, c)| (j, *c));
+        for (k, u) in unary.iter().enumerate() {
+            let (j, c) = if tied {
+                let previous = &frames[i - 1].candidates_cm;
+                let sigma2 = frame.step_sigma_cm * frame.step_sigma_cm;
+                let mut least = (0usize, f64::INFINITY);
+                for (j, before) in cost.iter().enumerate() {
+                    let miss = frame.candidates_cm[k] - previous[j] - frame.expected_step_cm;
+                    let c = before + miss.length_squared() / (2.0 * sigma2.max(1e-12));
+                    if c < least.1 {
+                        least = (j, c);
+                    }
+                }
+                least
+            } else {
+                best_before.unwrap_or((0, 0.0))
+            };
+            next[k] = c + u;
+            back[k] = j;
+        }
+        cost = next;
+        from.push(back);
+    }
+    let mut path = vec![0usize; frames.len()];
+    let Some((mut k, _)) = cost.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1)) else {
+        return path;
+    };
+    for i in (0..frames.len()).rev() {
+        path[i] = k;
+        k = from[i].get(k).copied().unwrap_or(0);
+    }
+    path
+}
+
+/// Each candidate's energy above the frame's least over `temperature_px`;
+/// a candidate off the image costs as much as the frame's worst (it says
+/// nothing, but must not be a refuge), a frame with no energy at all costs
+/// nothing anywhere.
+fn unary_costs(energies_px: &[f64], temperature_px: f64) -> Vec<f64> {
+    let finite = energies_px.iter().copied().filter(|e| e.is_finite());
+    let least = finite.clone().fold(f64::INFINITY, f64::min);
+    let most = finite.fold(f64::NEG_INFINITY, f64::max);
+    if !least.is_finite() {
+        return vec![0.0; energies_px.len()];
+    }
+    energies_px
+        .iter()
+        .map(|e| if e.is_finite() { *e - least } else { most - least } / temperature_px.max(1e-12))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn line(energies_px: Vec<f64>, step: f64, sigma: f64) -> PathFrame {
+        PathFrame {
+            candidates_cm: (0..energies_px.len()).map(|k| DVec2::new(0.0, 10.0 * k as f64)).collect(),
+            energies_px,
+            expected_step_cm: DVec2::new(0.0, step),
+            step_sigma_cm: sigma,
+        }
+    }
+
+    #[test]
+    fn a_valley_that_fits_better_over_many_frames_wins_over_a_single_frame() {
+        // Candidates at 0, 10, 20 cm; the body stands still (σ 2 cm a frame).
+        // Frames 0–9 prefer 20 cm a little; frame 5 alone prefers 0 cm a lot.
+        let mut frames: Vec<PathFrame> = (0..10).map(|_| line(vec![1.0, 0.8, 0.7], 0.0, 2.0)).collect();
+        frames[5] = line(vec![0.0, 1.0, 1.0], 0.0, 2.0);
+        let path = best_path(&frames, 0.1);
+        assert_eq!(path, vec![2; 10]);
+        // Untied frames each take their own least.
+        let loose: Vec<PathFrame> =
+            frames.iter().cloned().map(|f| PathFrame { step_sigma_cm: f64::INFINITY, ..f }).collect();
+        assert_eq!(best_path(&loose, 0.1)[5], 0);
+    }
+
+    #[test]
+    fn the_path_follows_the_expected_steps_where_the_energy_says_nothing() {
+        // 10 cm a frame expected; energies flat (NaN: off the image) after the first.
+        let mut frames = vec![line(vec![1.0, 0.0, 1.0, 1.0, 1.0], 0.0, f64::INFINITY)];
+        frames.extend((0..3).map(|_| line(vec![f64::NAN; 5], 10.0, 1.0)));
+        assert_eq!(best_path(&frames, 0.1), vec![1, 2, 3, 4]);
+    }
+}
