@@ -201,7 +201,23 @@ fn spans_contour_and_bounds_agree_with_the_mask() {
         (b.left..b.right).any(|x| covered(x, b.top)) && (b.left..b.right).any(|x| covered(x, b.bottom - 1))
     );
     assert!(image.iter().enumerate().all(|(i, &m)| m == 0 || s.contains((i % w) as u32, (i / w) as u32)));
-    // The contour: covered pixels with an uncovered 4-neighbour.
+    let expected = contour_of_mask(&image, w, h);
+    assert_eq!(s.contour(), expected);
+    assert!(expected.len() > 100);
+    // Cut by the image's edges (left, top, bottom): the cut is no contour.
+    for shift in [DVec3::new(-290.0, 0.0, 140.0), DVec3::new(0.0, 190.0, 0.0), DVec3::new(0.0, -200.0, 0.0)] {
+        let cut = silhouette(&camera, body, shift);
+        let b = cut.bounds;
+        assert!(b.left == 0 || b.top == 0 || b.bottom == 480, "{shift}: {b:?} is not cut");
+        let expected = contour_of_mask(&cut.image_mask(), w, h);
+        assert!(expected.len() > 20, "{shift}");
+        assert_eq!(cut.contour(), expected, "{shift}");
+    }
+}
+
+/// The contour by brute force: covered pixels with an uncovered 4-neighbour
+/// in the image, in raster order.
+fn contour_of_mask(image: &[u8], w: usize, h: usize) -> Vec<[u32; 2]> {
     let mut expected = Vec::new();
     for y in 0..h {
         for x in 0..w {
@@ -216,8 +232,7 @@ fn spans_contour_and_bounds_agree_with_the_mask() {
             }
         }
     }
-    assert_eq!(s.contour(), expected);
-    assert!(expected.len() > 100);
+    expected
 }
 
 #[test]

@@ -67,6 +67,26 @@ pub struct Span {
     pub end: u32,
 }
 
+/// Pushes the columns of `span` that no span of `cover` (one row's, left
+/// to right) covers.
+fn uncovered(span: &Span, cover: &[Span], xs: &mut Vec<u32>) {
+    let mut x = span.start;
+    for c in cover {
+        if c.end <= x {
+            continue;
+        }
+        if c.start >= span.end {
+            break;
+        }
+        xs.extend(x..c.start.max(x));
+        x = x.max(c.end);
+        if x >= span.end {
+            return;
+        }
+    }
+    xs.extend(x..span.end);
+}
+
 /// The pixels a body covers in one image.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Silhouette {
@@ -117,35 +137,46 @@ impl Silhouette {
     /// covered, in raster order, as `[x, y]`. A neighbour off the image
     /// does not count: where the image cuts the body, the cut is no edge.
     pub fn contour(&self) -> Vec<[u32; 2]> {
-        let mut out = Vec::new();
-        let b = self.mask_box;
-        let width = b.width() as usize;
+        // From the spans alone: a span's pixels on the contour are its ends
+        // and what the rows above and below leave uncovered of it, found by
+        // interval arithmetic — a few steps a span, not a test a pixel.
         let (image_w, image_h) = (self.image_size.width_px, self.image_size.height_px);
-        let empty: &[u8] = &[];
-        // The mask row `y` (image row), empty off the mask.
-        let line = |y: u32| -> &[u8] {
-            if y >= b.top && y < b.bottom {
-                let from = (y - b.top) as usize * width;
-                &self.mask[from..from + width]
-            } else {
-                empty
+        let mut rows: Vec<(u32, usize, usize)> = Vec::new();
+        for (i, span) in self.spans.iter().enumerate() {
+            match rows.last_mut() {
+                Some((row, _, end)) if *row == span.row => *end = i + 1,
+                _ => rows.push((span.row, i, i + 1)),
             }
+        }
+        let empty: &[Span] = &[];
+        // The spans of image row `y` next to row entry `r` (`None` off the
+        // image: a neighbour there does not count).
+        let neighbour = |r: Option<usize>, y: Option<u32>| -> Option<&[Span]> {
+            let y = y.filter(|&y| y < image_h)?;
+            Some(match r.and_then(|r| rows.get(r)) {
+                Some(&(row, from, to)) if row == y => &self.spans[from..to],
+                _ => empty,
+            })
         };
-        for span in &self.spans {
-            let y = span.row;
-            let (up, down) = (if y > 0 { line(y - 1) } else { empty }, line(y + 1));
-            let (up_on_image, down_on_image) = (y > 0, y + 1 < image_h);
-            let outside = |row: &[u8], on_image: bool, x: u32| {
-                on_image && row.get((x - b.left) as usize).is_none_or(|&m| m == 0)
-            };
-            for x in span.start..span.end {
-                let edge = (x == span.start && x > 0)
-                    || (x + 1 == span.end && x + 1 < image_w)
-                    || outside(up, up_on_image, x)
-                    || outside(down, down_on_image, x);
-                if edge {
-                    out.push([x, y]);
+        let mut out = Vec::new();
+        let mut xs: Vec<u32> = Vec::new();
+        for (r, &(y, from, to)) in rows.iter().enumerate() {
+            let up = neighbour(r.checked_sub(1), y.checked_sub(1));
+            let down = neighbour(Some(r + 1), Some(y + 1));
+            for span in &self.spans[from..to] {
+                xs.clear();
+                if span.start > 0 {
+                    xs.push(span.start);
                 }
+                if span.end < image_w {
+                    xs.push(span.end - 1);
+                }
+                for cover in [up, down].into_iter().flatten() {
+                    uncovered(span, cover, &mut xs);
+                }
+                xs.sort_unstable();
+                xs.dedup();
+                out.extend(xs.iter().map(|&x| [x, y]));
             }
         }
         out

@@ -495,8 +495,14 @@ impl Tracker {
             let steps = (params.path_reach_cm / params.path_spacing_cm).round() as i32;
             let candidates_cm: Vec<DVec2> =
                 (-steps..=steps).map(|k| base + along * (k as f64 * params.path_spacing_cm)).collect();
-            let energies_px =
-                candidates_cm.iter().map(|&p| self.fused_energy(&terms, &banded, p, params)).collect();
+            // A fit not believable says nothing here either: the suit's
+            // steps carry the frame (all candidates alike).
+            let believable = fit.is_some_and(|(_, f)| f.confidence() >= params.min_confidence);
+            let energies_px = if believable {
+                candidates_cm.iter().map(|&p| self.fused_energy(&terms, &banded, p, params)).collect()
+            } else {
+                vec![f64::NAN; candidates_cm.len()]
+            };
             self.path_frames.push(Some(PathRecord {
                 frame: PathFrame {
                     candidates_cm,
