@@ -49,6 +49,27 @@ fn both_trackers_follow_a_filmed_body_at_another_rate_than_its_bvh() {
 }
 
 #[test]
+fn a_video_longer_than_its_bvh_is_tracked_where_there_is_a_pose() {
+    // 3 s of video, 2 s of suit recording: the last second has no pose.
+    let size = ImageSize { width_px: 400, height_px: 300 };
+    let (_, camera, background, frames, truth) = film(25.0, 3.0, size, 0.0);
+    let demo = demo();
+    let mut motion = demo.without_translation();
+    motion.values.truncate(200 * motion.channel_count);
+    let short =
+        Recording::from_bvh(Bvh { skeleton: demo.skeleton.clone(), motion, warnings: Vec::new() }, "short");
+    let fused = track(&short, camera, &background, &frames, 25.0, TrackMethod::Fused(FusedParams::default()));
+    assert!(fused.warnings.iter().any(|w| w.contains("no pose")), "{:?}", fused.warnings);
+    let posed = fused.frames.iter().take_while(|f| f.height_cm.is_finite()).count();
+    assert!((49..=51).contains(&posed), "{posed} frames with a pose");
+    let error_cm =
+        fused.frames[..posed].iter().zip(&truth).map(|(f, t)| (f.floor_cm - *t).length()).sum::<f64>()
+            / posed as f64;
+    eprintln!("a 3 s video of a 2 s BVH: fused {error_cm:.2} cm over its {posed} frames with a pose");
+    assert!(error_cm < 10.0, "fused {error_cm:.2} cm where there is a pose");
+}
+
+#[test]
 fn the_time_offset_between_video_and_bvh_is_found() {
     // The video starts 0.3 s into the BVH: tracked as if in step, then the
     // offset estimated from every frame. The true pose is tracked here: a

@@ -29,14 +29,24 @@ pub struct PathFrame {
     pub step_sigma_cm: f64,
 }
 
-/// The least-cost path: per frame, the index of its chosen candidate
-/// (frames without candidates get 0).
+/// The least-cost path: per frame, the index of its chosen candidate.
+/// A frame without candidates (no pose there) is passed through: the path
+/// on either side of it is chosen as two paths, each whole, and the frame
+/// itself gets the index its last frame before had.
 pub fn best_path(frames: &[PathFrame], temperature_px: f64) -> Vec<usize> {
     let mut cost: Vec<f64> = Vec::new();
     let mut from: Vec<Vec<usize>> = Vec::with_capacity(frames.len());
     for (i, frame) in frames.iter().enumerate() {
+        if frame.candidates_cm.is_empty() {
+            // The costs so far stand; back through here, each stays itself.
+            from.push((0..cost.len()).collect());
+            continue;
+        }
         let unary = unary_costs(&frame.energies_px, temperature_px);
-        let tied = i > 0 && frame.step_sigma_cm.is_finite() && !cost.is_empty();
+        let tied = i > 0
+            && frame.step_sigma_cm.is_finite()
+            && !cost.is_empty()
+            && frames[i - 1].candidates_cm.len() == cost.len();
         let mut next = vec![0.0; unary.len()];
         let mut back = vec![0usize; unary.len()];
         let best_before = cost.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1)).map(|(j, c)| (j, *c));
@@ -115,6 +125,23 @@ mod tests {
         let loose: Vec<PathFrame> =
             frames.iter().cloned().map(|f| PathFrame { step_sigma_cm: f64::INFINITY, ..f }).collect();
         assert_eq!(best_path(&loose, 0.1)[5], 0);
+    }
+
+    #[test]
+    fn frames_without_candidates_split_the_path_in_two_whole_ones() {
+        // Before the gap the body is at 20 cm, after it at 0 cm; the gap at
+        // the end too (a video longer than its BVH).
+        let empty = PathFrame {
+            candidates_cm: Vec::new(),
+            energies_px: Vec::new(),
+            expected_step_cm: DVec2::ZERO,
+            step_sigma_cm: f64::INFINITY,
+        };
+        let mut frames: Vec<PathFrame> = (0..3).map(|_| line(vec![1.0, 0.5, 0.0], 0.0, 2.0)).collect();
+        frames.push(empty.clone());
+        frames.extend((0..3).map(|_| line(vec![0.0, 0.5, 1.0], 0.0, 2.0)));
+        frames.push(empty);
+        assert_eq!(best_path(&frames, 0.1), vec![2, 2, 2, 2, 0, 0, 0, 0]);
     }
 
     #[test]
