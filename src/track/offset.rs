@@ -13,7 +13,7 @@ use crate::image::pipeline::features;
 use crate::track::energy::FrameTerms;
 use crate::track::search::coarse_to_fine;
 use crate::track::silhouette::SilhouetteRenderer;
-use crate::track::tracker::{FusedParams, Track, TrackSetup};
+use crate::track::tracker::{FusedParams, Track, TrackSetup, fused_terms};
 
 /// How far around each tracked position the fit is searched for each
 /// offset tried (cm): the positions were tracked at another offset, and a
@@ -96,13 +96,7 @@ pub fn estimate_offset_s(
             let tracked = track.frames.get(*i)?;
             let f = features(frame, &setup.background, &setup.pipeline, "sample").ok()?;
             let p = tracked.floor_cm;
-            let depth = setup.camera.point_in_camera(DVec3::new(p.x, 100.0, p.y)).z.max(50.0);
-            let truncation_px = (setup.camera.intrinsics.fx_px * params.truncation_cm / depth) as f32;
-            Some((
-                *i,
-                FrameTerms::new(&f.edge_distance, &f.outside_distance, &f.foreground, truncation_px.max(1.0)),
-                p,
-            ))
+            Some((*i, fused_terms(&setup.camera, &params, &f, p).0, p))
         })
         .collect();
     let mut cost = |offset_s: f64| -> f64 {

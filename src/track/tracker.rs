@@ -289,25 +289,9 @@ impl Tracker {
         let Some(body_cm) = self.setup.suit.body_at(instant) else { return Ok(None) };
         let body = self.setup.shape.pose(&body_cm, DVec3::ZERO)?;
         let features = features(frame, &self.setup.background, &self.setup.pipeline, &label)?;
-        let depth_cm = camera.point_in_camera(DVec3::new(around_cm.x, 100.0, around_cm.y)).z.max(50.0);
-        let truncation_px = (camera.intrinsics.fx_px * params.truncation_cm / depth_cm) as f32;
-        let terms = FrameTerms::new(
-            &features.edge_distance,
-            &features.outside_distance,
-            &features.foreground,
-            truncation_px.max(1.0),
-        );
-        let banded = BandedBody {
-            widened: self.setup.shape.widened(&body, params.band_cm),
-            body,
-            band_px: if params.uncovered_weight > 0.0 {
-                camera.intrinsics.fx_px * params.band_cm / depth_cm
-            } else {
-                0.0
-            },
-        };
-        let centre = camera.center_in_world();
-        let along = (around_cm - DVec2::new(centre.x, centre.z)).normalize_or(DVec2::X);
+        let (terms, depth_cm) = fused_terms(&camera, &params, &features, around_cm);
+        let banded = BandedBody::new(&self.setup.shape, &body, &camera, &params, depth_cm);
+        let along = line_of_sight(&camera, around_cm);
         let steps = (reach_cm / 2.0).ceil() as i32;
         let mut best: Option<(DVec2, f64)> = None;
         for a in -steps..=steps {
@@ -417,39 +401,25 @@ impl Tracker {
                 (predicted, (params.search_sigmas * spread).clamp(params.min_search_cm, params.max_search_cm))
             }
         };
-        let depth_cm = camera.point_in_camera(DVec3::new(prediction.x, 100.0, prediction.y)).z.max(50.0);
-        let truncation_px = (camera.intrinsics.fx_px * params.truncation_cm / depth_cm) as f32;
-        let banded = BandedBody {
-            body: body.clone(),
-            widened: self.setup.shape.widened(body, params.band_cm),
-            band_px: if params.uncovered_weight > 0.0 {
-                camera.intrinsics.fx_px * params.band_cm / depth_cm
-            } else {
-                0.0
-            },
-        };
-        let terms = FrameTerms::new(
-            &features.edge_distance,
-            &features.outside_distance,
-            &features.foreground,
-            truncation_px.max(1.0),
-        );
+        let (terms, depth_cm) = fused_terms(&camera, params, features, prediction);
+        let banded = BandedBody::new(&self.setup.shape, body, &camera, params, depth_cm);
         let found = coarse_to_fine(prediction, radius_cm, params.resolution_cm, |p| {
             self.fused_energy(&terms, &banded, p, params)
         });
         let fit = found.and_then(|(p, _)| self.fused_fit(&terms, &banded, p).map(|fit| (p, fit)));
-        let reacquire_after = ((params.reacquire_after_s / dt).round() as usize).max(1);
+        let reacquire_after = reacquire_after_frames(params, dt);
         self.filter.get_or_insert_with(|| FloorFilter::new(prediction, radius_cm, dt, reacquire_after));
         let mut confidence = 0.0;
         let mut measured_cm = None;
         let mut across_variance_cm2 = None;
+        // A fit not believable is not used, here nor by the path search.
+        let believable = fit.is_some_and(|(_, f)| f.confidence() >= params.min_confidence);
         if let Some((p, fit)) = fit
-            && fit.confidence() >= params.min_confidence
+            && believable
         {
             let sigma_px = params.match_sigma_px / fit.confidence();
             let geometric = measurement_covariance(&camera, body, p, sigma_px);
-            let centre = camera.center_in_world();
-            let along = (p - DVec2::new(centre.x, centre.z)).normalize_or(DVec2::X);
+            let along = line_of_sight(&camera, p);
             let across = along.perp();
             let e0 = fit.fused_energy(params.mask_weight, params.uncovered_weight);
             let h = CURVATURE_STEP_CM;
@@ -490,14 +460,12 @@ impl Tracker {
         }
         if params.path_reach_cm > 0.0 && params.path_spacing_cm > 0.0 {
             let base = measured_cm.or(fit.map(|(p, _)| p)).unwrap_or(prediction);
-            let centre = camera.center_in_world();
-            let along = (base - DVec2::new(centre.x, centre.z)).normalize_or(DVec2::X);
+            let along = line_of_sight(&camera, base);
             let steps = (params.path_reach_cm / params.path_spacing_cm).round() as i32;
             let candidates_cm: Vec<DVec2> =
                 (-steps..=steps).map(|k| base + along * (k as f64 * params.path_spacing_cm)).collect();
-            // A fit not believable says nothing here either: the suit's
-            // steps carry the frame (all candidates alike).
-            let believable = fit.is_some_and(|(_, f)| f.confidence() >= params.min_confidence);
+            // Where the fit is not believable the suit's steps carry the
+            // frame (all candidates alike).
             let energies_px = if believable {
                 candidates_cm.iter().map(|&p| self.fused_energy(&terms, &banded, p, params)).collect()
             } else {
@@ -581,7 +549,7 @@ impl Tracker {
             .collect();
         let chosen = best_path(&frames, params.path_temperature_px);
         let dt = 1.0 / self.setup.timing.fps;
-        let reacquire_after = ((params.reacquire_after_s / dt).round() as usize).max(1);
+        let reacquire_after = reacquire_after_frames(params, dt);
         let along_variance = params.path_spacing_cm * params.path_spacing_cm;
         let measurement = |r: &PathRecord, k: usize| {
             let across = r.along.perp();
@@ -669,6 +637,62 @@ struct BandedBody {
     body: PosedBody,
     widened: PosedBody,
     band_px: f64,
+}
+
+impl BandedBody {
+    /// `body` of `shape` with its band, `depth_cm` from `camera`; no band
+    /// (0 px) when the band term is off.
+    fn new(
+        shape: &BodyShape,
+        body: &PosedBody,
+        camera: &Camera,
+        params: &FusedParams,
+        depth_cm: f64,
+    ) -> BandedBody {
+        BandedBody {
+            body: body.clone(),
+            widened: shape.widened(body, params.band_cm),
+            band_px: if params.uncovered_weight > 0.0 {
+                camera.intrinsics.fx_px * params.band_cm / depth_cm
+            } else {
+                0.0
+            },
+        }
+    }
+}
+
+/// The fused energy's image terms of a frame for a body standing near
+/// `near_cm`, the contour's distances truncated at `params.truncation_cm`
+/// at the body's distance; and that distance (cm, the camera's depth of
+/// the point 1 m above `near_cm`, at least 50 cm).
+pub(crate) fn fused_terms(
+    camera: &Camera,
+    params: &FusedParams,
+    features: &Features,
+    near_cm: DVec2,
+) -> (FrameTerms, f64) {
+    let depth_cm = camera.point_in_camera(DVec3::new(near_cm.x, 100.0, near_cm.y)).z.max(50.0);
+    let truncation_px = (camera.intrinsics.fx_px * params.truncation_cm / depth_cm) as f32;
+    let terms = FrameTerms::new(
+        &features.edge_distance,
+        &features.outside_distance,
+        &features.foreground,
+        truncation_px.max(1.0),
+    );
+    (terms, depth_cm)
+}
+
+/// The direction on the floor (x, z) of the camera's line of sight through
+/// `floor_cm`: from below the camera's centre towards it.
+fn line_of_sight(camera: &Camera, floor_cm: DVec2) -> DVec2 {
+    let centre = camera.center_in_world();
+    (floor_cm - DVec2::new(centre.x, centre.z)).normalize_or(DVec2::X)
+}
+
+/// After this many frames of rejected fits the filter trusts the camera
+/// again ([`FusedParams::reacquire_after_s`] at `dt_s` a frame, at least 1).
+fn reacquire_after_frames(params: &FusedParams, dt_s: f64) -> usize {
+    ((params.reacquire_after_s / dt_s).round() as usize).max(1)
 }
 
 /// The frames where `flags` holds, as ranges: `3–7, 12, 40–41`.
