@@ -442,7 +442,8 @@ fn the_band_term_sees_a_body_too_small_for_the_actor() {
         height_px: VGA.height_px,
         on: actor.iter().map(|&m| m == 1).collect(),
     };
-    let terms = FrameTerms::new(&distance_to(&foreground), &distance_to(&foreground), &foreground, 10.0);
+    let distance = distance_to(&foreground);
+    let terms = FrameTerms::new(&distance, &distance, &foreground, 10.0);
     let band_cm = 5.0;
     let band_px = 500.0 * band_cm / 400.0;
     let uncovered = |radius_cm: f64| {
@@ -459,4 +460,74 @@ fn the_band_term_sees_a_body_too_small_for_the_actor() {
     // Without a band there is no such term.
     let body = silhouette(&camera, &ball(27.0), DVec3::ZERO);
     assert_eq!(terms.fit(&body).unwrap().uncovered_px, 0.0);
+}
+
+/// The fused tracker computes a frame's distances only up to its energy's
+/// truncation (`PipelineParams::truncate_px`): its fits must be exactly those
+/// from the whole distance transforms, for bodies on the actor, beside it,
+/// and on rows of the image far from any foreground.
+#[test]
+fn fits_from_truncated_distances_are_the_fits_from_whole_ones() {
+    use embusen::image::Mask;
+    use embusen::image::distance::{distance_to, distance_to_truncated};
+    use embusen::track::energy::FrameTerms;
+    let camera = look_at(
+        DVec3::new(0.0, 100.0, -400.0),
+        DVec3::new(0.0, 100.0, 0.0),
+        VGA,
+        500.0,
+        Distortion::default(),
+    );
+    let ball = |centre_cm: DVec3, radius_cm: f64| PosedBody {
+        spheres: vec![Sphere { centre_cm, radius_cm }],
+        cones: Vec::new(),
+    };
+    let actor = silhouette(&camera, &ball(DVec3::new(0.0, 100.0, 0.0), 30.0), DVec3::ZERO).image_mask();
+    let foreground = Mask {
+        width_px: VGA.width_px,
+        height_px: VGA.height_px,
+        on: actor.iter().map(|&m| m == 1).collect(),
+    };
+    // The actor's own outline as its edges.
+    let edges = Mask {
+        width_px: VGA.width_px,
+        height_px: VGA.height_px,
+        on: (0..actor.len())
+            .map(|i| {
+                let (x, y) = (i % VGA.width_px as usize, i / VGA.width_px as usize);
+                foreground.on[i]
+                    && (x == 0
+                        || !foreground.on[i - 1]
+                        || y == 0
+                        || !foreground.on[i - VGA.width_px as usize])
+            })
+            .collect(),
+    };
+    let truncation_px = 12.5;
+    let (whole_edges, whole_outside) = (distance_to(&edges), distance_to(&foreground));
+    let (cut_edges, cut_outside) =
+        (distance_to_truncated(&edges, truncation_px), distance_to_truncated(&foreground, truncation_px));
+    let whole = FrameTerms::new(&whole_edges, &whole_outside, &foreground, truncation_px);
+    let cut = FrameTerms::new(&cut_edges, &cut_outside, &foreground, truncation_px);
+    let mut compared = 0;
+    for (x_cm, y_cm, radius_cm) in [
+        (0.0, 100.0, 30.0),
+        (8.0, 95.0, 25.0),
+        (60.0, 100.0, 30.0),
+        (0.0, 260.0, 40.0),
+        (-150.0, -40.0, 20.0),
+    ] {
+        let body = silhouette(&camera, &ball(DVec3::new(x_cm, y_cm, 0.0), radius_cm), DVec3::ZERO);
+        let widened = silhouette(&camera, &ball(DVec3::new(x_cm, y_cm, 0.0), radius_cm + 5.0), DVec3::ZERO);
+        let (a, b) = (whole.fit_in_band(&body, &widened, 6.0), cut.fit_in_band(&body, &widened, 6.0));
+        let (a, b) = (a.unwrap(), b.unwrap());
+        assert_eq!(a.fused_energy(1.0, 0.5).to_bits(), b.fused_energy(1.0, 0.5).to_bits(), "{x_cm}, {y_cm}");
+        assert_eq!(
+            (a.truncated_chamfer_px, a.outside_px, a.uncovered_px),
+            (b.truncated_chamfer_px, b.outside_px, b.uncovered_px)
+        );
+        assert_eq!((a.near_edge_share, a.on_foreground_share), (b.near_edge_share, b.on_foreground_share));
+        compared += 1;
+    }
+    assert_eq!(compared, 5);
 }

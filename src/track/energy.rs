@@ -23,17 +23,26 @@ use crate::image::{DistanceImage, Mask};
 use crate::track::silhouette::Silhouette;
 
 /// The per-frame image terms, ready to be summed over many silhouettes.
+/// They borrow the frame's edge distances, made once per frame and read at
+/// every contour pixel of every silhouette tried.
 #[derive(Clone, Debug)]
-pub struct FrameTerms {
+pub struct FrameTerms<'a> {
     width_px: u32,
     height_px: u32,
     /// Distance to the nearest edge (px), untruncated.
-    edge_distance_px: Vec<f32>,
-    /// Per row, the prefix sums of the truncated distance outside the
-    /// foreground: `row_prefix[y * (w + 1) + x]` sums columns `0..x` of row
-    /// `y`, so a span costs one subtraction.
+    edge_distance_px: &'a [f32],
+    /// The rows `prefix_top..prefix_top + prefix_rows` hold all the
+    /// foreground and every distance outside it below the truncation; in
+    /// every other row the truncated distance is the truncation itself and
+    /// nothing is foreground, so a span there costs a multiplication (and,
+    /// the truncation being an f32, exactly what a sum of its pixels would).
+    prefix_top: usize,
+    prefix_rows: usize,
+    /// Per row of those, the prefix sums of the truncated distance outside
+    /// the foreground: `outside_prefix[(y − prefix_top) * (w + 1) + x]` sums
+    /// columns `0..x` of row `y`, so a span costs one subtraction.
     outside_prefix: Vec<f64>,
-    /// Per row, the prefix counts of foreground pixels, likewise.
+    /// Per row of those, the prefix counts of foreground pixels, likewise.
     foreground_prefix: Vec<u32>,
     truncation_px: f32,
 }
@@ -63,22 +72,31 @@ pub struct Fit {
 /// edge detector's and the rasteriser's pixel.
 pub const NEAR_EDGE_PX: f32 = 2.0;
 
-impl FrameTerms {
+impl<'a> FrameTerms<'a> {
     /// The terms of a frame whose edges are `edge_distance` away and whose
     /// foreground is `foreground` (with `outside_distance` its distance
     /// transform), distances truncated at `truncation_px` for the fused
     /// energy.
     pub fn new(
-        edge_distance: &DistanceImage,
+        edge_distance: &'a DistanceImage,
         outside_distance: &DistanceImage,
         foreground: &Mask,
         truncation_px: f32,
-    ) -> FrameTerms {
+    ) -> FrameTerms<'a> {
         let (w, h) = (edge_distance.width_px as usize, edge_distance.height_px as usize);
-        let mut outside_prefix = vec![0.0; (w + 1) * h];
-        let mut foreground_prefix = vec![0u32; (w + 1) * h];
-        for y in 0..h {
-            let (row, prefix) = (&outside_distance.distance_px[y * w..(y + 1) * w], y * (w + 1));
+        let near = |y: usize| {
+            outside_distance.distance_px[y * w..(y + 1) * w].iter().any(|&d| d < truncation_px)
+                || foreground.on[y * w..(y + 1) * w].iter().any(|&on| on)
+        };
+        let (prefix_top, prefix_rows) = match ((0..h).find(|&y| near(y)), (0..h).rev().find(|&y| near(y))) {
+            (Some(top), Some(bottom)) => (top, bottom + 1 - top),
+            _ => (0, 0),
+        };
+        let mut outside_prefix = vec![0.0; (w + 1) * prefix_rows];
+        let mut foreground_prefix = vec![0u32; (w + 1) * prefix_rows];
+        for k in 0..prefix_rows {
+            let y = prefix_top + k;
+            let (row, prefix) = (&outside_distance.distance_px[y * w..(y + 1) * w], k * (w + 1));
             for x in 0..w {
                 outside_prefix[prefix + x + 1] =
                     outside_prefix[prefix + x] + row[x].min(truncation_px) as f64;
@@ -89,11 +107,19 @@ impl FrameTerms {
         FrameTerms {
             width_px: edge_distance.width_px,
             height_px: edge_distance.height_px,
-            edge_distance_px: edge_distance.distance_px.clone(),
+            edge_distance_px: &edge_distance.distance_px,
+            prefix_top,
+            prefix_rows,
             outside_prefix,
             foreground_prefix,
             truncation_px,
         }
+    }
+
+    /// The index of row `row`'s prefix sums, `None` for a row beyond them.
+    fn prefix_row(&self, row: u32) -> Option<usize> {
+        let k = (row as usize).checked_sub(self.prefix_top)?;
+        (k < self.prefix_rows).then(|| k * (self.width_px as usize + 1))
     }
 
     /// How `silhouette` fits; `None` when it covers no pixel of the image.
@@ -117,9 +143,13 @@ impl FrameTerms {
         }
         let mut outside = 0.0f64;
         for span in &silhouette.spans {
-            let row = span.row as usize * (w + 1);
-            outside +=
-                self.outside_prefix[row + span.end as usize] - self.outside_prefix[row + span.start as usize];
+            outside += match self.prefix_row(span.row) {
+                Some(row) => {
+                    self.outside_prefix[row + span.end as usize]
+                        - self.outside_prefix[row + span.start as usize]
+                }
+                None => (span.end - span.start) as f64 * self.truncation_px as f64,
+            };
         }
         let (on_foreground, area) = self.foreground_under(silhouette);
         let n = contour.len() as f64;
@@ -155,12 +185,12 @@ impl FrameTerms {
 
     /// The foreground pixels under `silhouette`, and its area (px).
     fn foreground_under(&self, silhouette: &Silhouette) -> (u64, u64) {
-        let w = self.width_px as usize;
         let (mut on, mut area) = (0u64, 0u64);
         for span in &silhouette.spans {
-            let row = span.row as usize * (w + 1);
-            on += (self.foreground_prefix[row + span.end as usize]
-                - self.foreground_prefix[row + span.start as usize]) as u64;
+            if let Some(row) = self.prefix_row(span.row) {
+                on += (self.foreground_prefix[row + span.end as usize]
+                    - self.foreground_prefix[row + span.start as usize]) as u64;
+            }
             area += (span.end - span.start) as u64;
         }
         (on, area)

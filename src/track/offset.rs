@@ -9,7 +9,7 @@
 use glam::{DVec2, DVec3};
 
 use crate::image::GreyImage;
-use crate::image::pipeline::features;
+use crate::image::pipeline::{Features, features};
 use crate::track::energy::FrameTerms;
 use crate::track::search::coarse_to_fine;
 use crate::track::silhouette::SilhouetteRenderer;
@@ -90,15 +90,16 @@ pub fn estimate_offset_s(
 ) -> Option<OffsetEstimate> {
     let params = FusedParams::default();
     let mut renderer = SilhouetteRenderer::new(&setup.camera);
-    let terms: Vec<(usize, FrameTerms, DVec2)> = samples
+    let sampled: Vec<(usize, Features, DVec2)> = samples
         .iter()
         .filter_map(|(i, frame)| {
             let tracked = track.frames.get(*i)?;
             let f = features(frame, &setup.background, &setup.pipeline, "sample").ok()?;
-            let p = tracked.floor_cm;
-            Some((*i, fused_terms(&setup.camera, &params, &f, p).0, p))
+            Some((*i, f, tracked.floor_cm))
         })
         .collect();
+    let terms: Vec<(usize, FrameTerms, DVec2)> =
+        sampled.iter().map(|(i, f, p)| (*i, fused_terms(&setup.camera, &params, f, *p).0, *p)).collect();
     let mut cost = |offset_s: f64| -> f64 {
         let mut total = 0.0;
         let mut scored = 0usize;

@@ -255,10 +255,12 @@ impl Tracker {
         };
         let height_cm = body_cm[self.setup.suit.hips].y;
         let body = self.setup.shape.pose(&body_cm, DVec3::ZERO)?;
-        let features = features(frame, &self.setup.background, &self.setup.pipeline, &label)?;
         let tracked = match self.setup.method {
-            TrackMethod::Paper(params) => self.paper_frame(&params, &body, &features),
-            TrackMethod::Fused(params) => self.fused_frame(&params, &body, &features, instant, i),
+            TrackMethod::Paper(params) => {
+                let features = features(frame, &self.setup.background, &self.setup.pipeline, &label)?;
+                self.paper_frame(&params, &body, &features)
+            }
+            TrackMethod::Fused(params) => self.fused_frame(&params, &body, frame, &label, instant, i)?,
         };
         self.frames.push(TrackedFrame { time_s, height_cm, ..tracked });
         Ok(&self.frames[i])
@@ -373,17 +375,25 @@ impl Tracker {
         &mut self,
         params: &FusedParams,
         body: &PosedBody,
-        features: &Features,
+        frame: &GreyImage,
+        label: &str,
         instant: BvhInstant,
         i: usize,
-    ) -> TrackedFrame {
+    ) -> Result<TrackedFrame, Error> {
         let camera = self.setup.camera;
         let dt = 1.0 / self.setup.timing.fps;
         let before_cm = self.filter.as_ref().map(|f| f.current().0);
         let mut step_cm = DVec2::ZERO;
         let mut step_sigma_cm = f64::INFINITY;
+        let mut first_features = None;
         let (prediction, radius_cm) = match &mut self.filter {
-            None => (self.first_guess(features, body), params.start_search_cm),
+            None => {
+                // The first frame is searched for over the whole image.
+                let f = features(frame, &self.setup.background, &self.setup.pipeline, label)?;
+                let guess = self.first_guess(&f, body);
+                first_features = Some(f);
+                (guess, params.start_search_cm)
+            }
             Some(filter) => {
                 let before = self.setup.timing.bvh_time_s(i.saturating_sub(1));
                 let path = &self.setup.suit.inertial_floor_cm;
@@ -401,7 +411,23 @@ impl Tracker {
                 (predicted, (params.search_sigmas * spread).clamp(params.min_search_cm, params.max_search_cm))
             }
         };
-        let (terms, depth_cm) = fused_terms(&camera, params, features, prediction);
+        let (truncation_px, depth_cm) = fused_truncation_px(&camera, params, prediction);
+        // The energy reads the distances only up to the truncation, so they
+        // are computed only so far, near the foreground (the same values).
+        let features = match first_features {
+            Some(f) => f,
+            None => {
+                let pipeline = &self.setup.pipeline;
+                let truncate_px = Some(pipeline.truncate_px.map_or(truncation_px, |t| t.min(truncation_px)));
+                features(frame, &self.setup.background, &PipelineParams { truncate_px, ..*pipeline }, label)?
+            }
+        };
+        let terms = FrameTerms::new(
+            &features.edge_distance,
+            &features.outside_distance,
+            &features.foreground,
+            truncation_px,
+        );
         let banded = BandedBody::new(&self.setup.shape, body, &camera, params, depth_cm);
         let found = coarse_to_fine(prediction, radius_cm, params.resolution_cm, |p| {
             self.fused_energy(&terms, &banded, p, params)
@@ -484,14 +510,14 @@ impl Tracker {
                 along,
             }));
         }
-        TrackedFrame {
+        Ok(TrackedFrame {
             time_s: 0.0,
             floor_cm: self.filter.as_ref().map_or(prediction, |f| f.current().0),
             height_cm: 0.0,
             confidence,
             measured_cm,
             candidates: Vec::new(),
-        }
+        })
     }
 
     /// Where to look for the body in the first frame: the floor below the
@@ -665,21 +691,30 @@ impl BandedBody {
 /// `near_cm`, the contour's distances truncated at `params.truncation_cm`
 /// at the body's distance; and that distance (cm, the camera's depth of
 /// the point 1 m above `near_cm`, at least 50 cm).
-pub(crate) fn fused_terms(
+pub(crate) fn fused_terms<'a>(
     camera: &Camera,
     params: &FusedParams,
-    features: &Features,
+    features: &'a Features,
     near_cm: DVec2,
-) -> (FrameTerms, f64) {
-    let depth_cm = camera.point_in_camera(DVec3::new(near_cm.x, 100.0, near_cm.y)).z.max(50.0);
-    let truncation_px = (camera.intrinsics.fx_px * params.truncation_cm / depth_cm) as f32;
+) -> (FrameTerms<'a>, f64) {
+    let (truncation_px, depth_cm) = fused_truncation_px(camera, params, near_cm);
     let terms = FrameTerms::new(
         &features.edge_distance,
         &features.outside_distance,
         &features.foreground,
-        truncation_px.max(1.0),
+        truncation_px,
     );
     (terms, depth_cm)
+}
+
+/// The truncation (px, at least 1) of the fused energy's distances for a
+/// body standing near `near_cm`: `params.truncation_cm` at the body's
+/// distance; and that distance (cm, the camera's depth of the point 1 m
+/// above `near_cm`, at least 50 cm).
+fn fused_truncation_px(camera: &Camera, params: &FusedParams, near_cm: DVec2) -> (f32, f64) {
+    let depth_cm = camera.point_in_camera(DVec3::new(near_cm.x, 100.0, near_cm.y)).z.max(50.0);
+    let truncation_px = (camera.intrinsics.fx_px * params.truncation_cm / depth_cm) as f32;
+    (truncation_px.max(1.0), depth_cm)
 }
 
 /// The direction on the floor (x, z) of the camera's line of sight through
