@@ -200,6 +200,40 @@ mod native {
         );
     }
 
+    /// The browser reads a frame's luma plane from its decoder and makes it
+    /// grey in Rust (`GreyImage::from_luma`): that must be the grey the CLI
+    /// reads through `ffmpeg -pix_fmt gray`, for every luma level, in limited
+    /// and in full range, or the app's tracks would not be the CLI's.
+    #[test]
+    fn grey_from_a_luma_plane_is_ffmpegs_grey_for_every_level() {
+        let (w, h) = (256usize, 2usize);
+        let luma: Vec<u8> = (0..w * h).map(|i| (i % w) as u8).collect();
+        let dir = scratch("luma");
+        for (range, full) in [("LIMITED", false), ("FULL", true)] {
+            // YUV4MPEG2: a header, then each frame's planes (4:2:0).
+            let mut y4m =
+                format!("YUV4MPEG2 W{w} H{h} F30:1 Ip A1:1 C420jpeg XCOLORRANGE={range}\n").into_bytes();
+            for _ in 0..2 {
+                y4m.extend_from_slice(b"FRAME\n");
+                y4m.extend_from_slice(&luma);
+                y4m.extend(std::iter::repeat_n(128u8, 2 * (w / 2) * (h / 2)));
+            }
+            let path = dir.join(format!("ramp-{range}.y4m"));
+            std::fs::write(&path, y4m).unwrap();
+            // ffmpeg is installed by ./build.sh, as for every video test.
+            let mut video = Ffmpeg::default().open(&path).unwrap();
+            let from_ffmpeg = video.next_frame().unwrap().unwrap();
+            let ours = GreyImage::from_luma(w as u32, h as u32, &luma, w, full, "ramp").unwrap();
+            assert_eq!(ours, from_ffmpeg, "{range}");
+        }
+        // Rows farther apart than the width (a decoder's padding) are read
+        // row by row; a plane too short is an error.
+        let padded: Vec<u8> = (0..3 * 8).map(|i| if i % 8 < 5 { 100 } else { 0 }).collect();
+        let grey = GreyImage::from_luma(5, 3, &padded, 8, true, "padded").unwrap();
+        assert!(grey.pixels.iter().all(|&g| g == 100));
+        assert!(GreyImage::from_luma(5, 3, &padded[..20], 8, true, "short").is_err());
+    }
+
     #[test]
     fn a_missing_ffmpeg_says_how_to_install_it() {
         let Some(dir) = optical() else { return };

@@ -56,6 +56,44 @@ impl GreyImage {
         Ok(GreyImage { width_px, height_px, pixels })
     }
 
+    /// The grey image of a decoded video frame's luma plane `luma` (rows
+    /// `stride` bytes apart, the first `width_px` of each used): the grey
+    /// levels `embusen track` reads through `ffmpeg -pix_fmt gray`, so that
+    /// a browser holding the decoder's own planes tracks the same bytes.
+    /// Limited-range luma (`full_range` false: 16 black, 235 white, the
+    /// video default) is stretched to full as ffmpeg's swscale does,
+    /// `⌊((Y − 16) · 510 + 219) / 438⌋` clamped to 0–255 (`tests/image.rs`
+    /// holds it to ffmpeg for every level); full-range luma is the grey
+    /// itself. An error for `label` when the plane is too short.
+    pub fn from_luma(
+        width_px: u32,
+        height_px: u32,
+        luma: &[u8],
+        stride: usize,
+        full_range: bool,
+        label: &str,
+    ) -> Result<Self, Error> {
+        let count = pixel_count(width_px, height_px, label)?;
+        let (w, h) = (width_px as usize, height_px as usize);
+        if stride < w || luma.len() < stride * (h - 1) + w {
+            return Err(Error::whole(
+                label,
+                format!(
+                    "a luma plane of {} bytes, rows {stride} apart, for a {width_px}×{height_px} frame",
+                    luma.len()
+                ),
+            ));
+        }
+        let level = |y: u8| -> u8 {
+            if full_range { y } else { ((y as i32 - 16) * 510 + 219).div_euclid(438).clamp(0, 255) as u8 }
+        };
+        let mut pixels = Vec::with_capacity(count);
+        for row in luma.chunks(stride).take(h) {
+            pixels.extend(row[..w].iter().map(|&y| level(y)));
+        }
+        Ok(GreyImage { width_px, height_px, pixels })
+    }
+
     /// An image of one grey level.
     pub fn filled(width_px: u32, height_px: u32, level: u8) -> Self {
         GreyImage { width_px, height_px, pixels: vec![level; width_px as usize * height_px as usize] }

@@ -12,4 +12,5 @@ pub mod search;
 pub mod silhouette;
 pub mod smoother;
 pub mod suit_motion;
+pub mod take;
 pub mod tracker;

@@ -6,13 +6,11 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use embusen::Error;
-use embusen::body::shape::BodyShape;
 use embusen::camera::Camera;
 use embusen::eval::track::{TrackErrors, track_errors};
 use embusen::image::GreyImage;
 use embusen::image::background::median_background;
-use embusen::image::pipeline::PipelineParams;
-use embusen::io::hips_csv::{HipsSample, format_hips_csv, parse_hips_csv};
+use embusen::io::hips_csv::parse_hips_csv;
 use embusen::io::image_file::{ImageSequence, open_png_grey};
 use embusen::io::recording::Recording;
 use embusen::io::video::{Ffmpeg, VideoFrames, sample_frames};
@@ -20,8 +18,9 @@ use embusen::signal::stats::median;
 use embusen::track::offset::estimate_offset_s;
 use embusen::track::paper::PaperTrackParams;
 use embusen::track::suit_motion::{SuitMotion, VideoTiming};
+use embusen::track::take::Take;
 use embusen::track::tracker::{FusedParams, Track, TrackMethod, TrackSetup, Tracker};
-use glam::{DVec2, DVec3};
+use glam::DVec2;
 
 #[derive(Clone, Copy, clap::ValueEnum)]
 pub enum TrackMethodArg {
@@ -211,42 +210,6 @@ fn background(
     median_background(&sampled, &video.display().to_string())
 }
 
-/// Everything read and checked, ready to track.
-struct Session {
-    recording: Recording,
-    setup: TrackSetup,
-    warnings: Vec<String>,
-}
-
-fn prepare(
-    recording: Recording,
-    camera: Camera,
-    background: GreyImage,
-    timing: VideoTiming,
-    method: TrackMethod,
-    mut warnings: Vec<String>,
-) -> Result<Session, Error> {
-    camera.check_image_size(background.width_px, background.height_px, "the background")?;
-    let suit = SuitMotion::new(&recording)?;
-    let (video_fps, video_frames) = (timing.fps, timing.frame_count);
-    for (first, last) in timing.frames_without_pose(&suit) {
-        warnings.push(format!("video frames {first}–{last} have no pose in {}: not tracked", recording.name));
-    }
-    let video_s = video_frames as f64 / video_fps;
-    let bvh_s = suit.frame_count() as f64 / suit.bvh_fps;
-    if (video_s - bvh_s).abs() > 1.5 / video_fps.min(suit.bvh_fps) {
-        warnings.push(format!(
-            "the video lasts {video_s:.2} s ({video_frames} frames at {video_fps:.3} fps), the BVH {bvh_s:.2} s ({} frames at {:.3} fps)",
-            suit.frame_count(),
-            suit.bvh_fps
-        ));
-    }
-    let shape = BodyShape::standard(&recording.joint_names, &recording.parents, recording.poses.frame(0))?;
-    let setup =
-        TrackSetup { camera, suit, shape, timing, background, pipeline: PipelineParams::default(), method };
-    Ok(Session { recording, setup, warnings })
-}
-
 /// Runs the tracker over `frames`; the milliseconds per frame it took (not
 /// counting the decoding).
 fn run_tracker(setup: TrackSetup, frames: &mut Frames, progress: bool) -> Result<(Track, f64), Error> {
@@ -291,49 +254,6 @@ fn run_tracker_keeping(
     Ok((tracker.finish(), 1000.0 * busy_s / n as f64, kept))
 }
 
-/// The hips per BVH frame from the track (the video's frames read at the
-/// BVH's times; past the video's ends the suit's own steps carry on), as the
-/// shift of every joint that puts them there.
-fn bvh_shift_cm(recording: &Recording, suit: &SuitMotion, timing: &VideoTiming, track: &Track) -> Vec<DVec3> {
-    let n = recording.frame_count();
-    let frames = &track.frames;
-    let inertial = &suit.inertial_floor_cm;
-    (0..n)
-        .map(|f| {
-            let video_position = (f as f64 / suit.bvh_fps - timing.offset_s) * timing.fps;
-            let floor = if frames.is_empty() {
-                inertial[f]
-            } else if video_position <= 0.0 {
-                let first = ((-timing.offset_s * suit.bvh_fps).round().max(0.0) as usize).min(n - 1);
-                frames[0].floor_cm + inertial[f] - inertial[first]
-            } else if video_position >= (frames.len() - 1) as f64 {
-                let last_time_s = (frames.len() - 1) as f64 / timing.fps + timing.offset_s;
-                let last = ((last_time_s * suit.bvh_fps).round().max(0.0) as usize).min(n - 1);
-                frames[frames.len() - 1].floor_cm + inertial[f] - inertial[last]
-            } else {
-                let a = video_position.floor() as usize;
-                let t = video_position - a as f64;
-                frames[a].floor_cm.lerp(frames[a + 1].floor_cm, t)
-            };
-            let hips_now = recording.poses.at(f, suit.hips);
-            let height = suit.body_cm.at(f, suit.hips).y;
-            DVec3::new(floor.x, height, floor.y) - hips_now
-        })
-        .collect()
-}
-
-fn track_samples(track: &Track) -> Vec<HipsSample> {
-    track
-        .frames
-        .iter()
-        .map(|f| HipsSample {
-            time_s: f.time_s,
-            hips_cm: DVec3::new(f.floor_cm.x, f.height_cm, f.floor_cm.y),
-            confidence: Some(f.confidence),
-        })
-        .collect()
-}
-
 /// `OUT.bvh` → `OUT.track.csv`.
 fn csv_path(output: &Path) -> PathBuf {
     output.with_extension("track.csv")
@@ -368,7 +288,7 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
     camera.check_image_size(width_px, height_px, &video_name)?;
     let mut warnings = Vec::new();
     let background = background(args.background.as_deref(), &args.video, args.fps, &mut warnings)?;
-    let session = prepare(
+    let session = Take::new(
         recording,
         camera,
         background,
@@ -379,10 +299,10 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
     for w in &session.warnings {
         eprintln!("warning: {w}");
     }
-    let (suit, mut timing) = (session.setup.suit.clone(), session.setup.timing);
+    let mut timing = session.setup.timing;
     let keep = if args.estimate_offset { OFFSET_SAMPLES } else { 0 };
     let setup = session.setup.clone();
-    let (mut track, mut ms_per_frame, kept) = run_tracker_keeping(session.setup, &mut frames, true, keep)?;
+    let (mut track, mut ms_per_frame, kept) = run_tracker_keeping(setup.clone(), &mut frames, true, keep)?;
     if args.estimate_offset {
         match estimate_offset_s(&setup, &track, &kept, OFFSET_REACH_S) {
             Some(estimate) => {
@@ -403,12 +323,12 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
     for w in &track.warnings {
         eprintln!("warning: {w}");
     }
-    let shift = bvh_shift_cm(&session.recording, &suit, &timing, &track);
+    let export = session.export(&track, &timing);
     let out_name = args.output.display().to_string();
-    std::fs::write(&args.output, session.recording.write_shifted(&shift))
+    std::fs::write(&args.output, export.recording_text)
         .map_err(|e| Error::whole(&out_name, format!("cannot write: {e}")))?;
     let csv = csv_path(&args.output);
-    std::fs::write(&csv, format_hips_csv(&track_samples(&track)))
+    std::fs::write(&csv, export.track_csv)
         .map_err(|e| Error::whole(&csv.display().to_string(), format!("cannot write: {e}")))?;
     let seen = track.frames.iter().filter(|f| f.confidence > 0.0).count();
     println!(
@@ -520,7 +440,7 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
         for method in [TrackMethodArg::Paper, TrackMethodArg::Fused] {
             let (background, warnings) = (room.clone(), background_warnings.clone());
             let mut frames = Frames::open(&video, None)?;
-            let session = prepare(
+            let session = Take::new(
                 recording.clone(),
                 camera,
                 background,
@@ -541,7 +461,7 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
         }
         if args.camera_oracle {
             let mut frames = Frames::open(&video, None)?;
-            let session = prepare(
+            let session = Take::new(
                 recording.clone(),
                 camera,
                 room.clone(),
