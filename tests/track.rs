@@ -151,6 +151,12 @@ fn track_writes_a_bvh_and_a_row_per_frame_and_refuses_bad_input() {
     let tracked = Recording::parse(&std::fs::read(&out).unwrap(), "tracked", None).unwrap();
     assert_eq!(tracked.frame_count(), 195);
 
+    // The app's job on the same files, fed the decoder's luma planes as a
+    // browser holds them, writes the same bytes.
+    let app = app_tracks(&video, &bvh, &camera, &background);
+    assert!(app.0 == std::fs::read_to_string(&out).unwrap(), "the app's corrected BVH is not the CLI's");
+    assert!(app.1 == csv, "the app's hips CSV is not the CLI's");
+
     let refused = |(ok, said): (bool, String), expected: &str| {
         assert!(
             !ok && said.starts_with("error:") && said.contains(expected) && !said.contains("panicked"),
@@ -169,6 +175,49 @@ fn track_writes_a_bvh_and_a_row_per_frame_and_refuses_bad_input() {
     std::fs::write(&broken, text.replacen("\"K\"", "\"not_K\"", 1)).unwrap();
     refused(track_cli(&video, &bvh, &broken, None, &out), "K");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `app::tracking::TrackingJob` on a video whose frames come as luma planes
+/// (ffmpeg's raw yuv420p, the planes a browser's decoder gives), the
+/// default method: the corrected recording and the hips CSV.
+fn app_tracks(video: &Path, bvh: &Path, camera: &Path, background: &Path) -> (String, String) {
+    use embusen::app::tracking::{NamedBytes, TrackingJob, VideoDescription};
+    use embusen::io::video::Ffmpeg;
+    let info = Ffmpeg::default().probe(video).unwrap();
+    let files: Vec<(String, Vec<u8>)> = [bvh, camera, background]
+        .iter()
+        .map(|p| (p.display().to_string(), std::fs::read(p).unwrap()))
+        .collect();
+    let named = |k: usize| NamedBytes { name: &files[k].0, bytes: &files[k].1 };
+    let mut job = TrackingJob::open(
+        named(0),
+        named(1),
+        named(2),
+        &video.display().to_string(),
+        VideoDescription {
+            width_px: info.width_px,
+            height_px: info.height_px,
+            fps: info.fps,
+            frame_count: info.frame_count,
+        },
+        TrackMethod::Fused(FusedParams::default()),
+        0.0,
+    )
+    .unwrap();
+    let raw = std::process::Command::new("ffmpeg")
+        .args(["-nostdin", "-v", "error", "-i"])
+        .arg(video)
+        .args(["-map", "0:v:0", "-fps_mode", "passthrough", "-f", "rawvideo", "-pix_fmt", "yuv420p", "-"])
+        .output()
+        .unwrap();
+    assert!(raw.status.success(), "{}", String::from_utf8_lossy(&raw.stderr));
+    let (w, h) = (info.width_px as usize, info.height_px as usize);
+    let frame_bytes = w * h + 2 * w.div_ceil(2) * h.div_ceil(2);
+    for planes in raw.stdout.chunks_exact(frame_bytes) {
+        job.push_luma(&planes[..w * h], w, false).unwrap();
+    }
+    let (export, _) = job.finish().unwrap();
+    (export.recording_text, export.track_csv)
 }
 
 /// Per shared scene, the mean horizontal error (cm) of the paper's and the

@@ -1,11 +1,12 @@
 //! What the app shows, still browser-free so native tests drive it: the open
-//! [`session::Session`] (a recording, its settings and result), the plots laid
+//! [`session::Session`] (a recording, its settings and result), a camera
+//! [`tracking::TrackingJob`] fed the video's frames one by one, the plots laid
 //! out as shapes, and the one colour theme of the plots and the 3D view. May
-//! import everything below it (`eval`, `translate`, `synth`, `io`, `body`,
-//! `signal`);
-//! only `web` and the CLI import it.
+//! import everything below it (`eval`, `track`, `translate`, `synth`, `io`,
+//! `body`, `camera`, `image`, `signal`); only `web` and the CLI import it.
 
 pub mod clock;
 pub mod plot;
 pub mod session;
 pub mod theme;
+pub mod tracking;

@@ -1,0 +1,140 @@
+//! A camera-tracking job as the app runs it: a take (the suit's recording,
+//! a camera file, a background still and the video's size and rate) is
+//! opened from the bytes the page read, the video's frames come in one at a
+//! time as the decoder's luma planes, and the end is the same corrected
+//! recording and hips CSV `embusen track` writes for the same files. Kept
+//! browser-free so native tests drive it with ffmpeg's frames; `web` runs
+//! it in a Web Worker.
+
+use glam::DVec2;
+
+use crate::camera::Camera;
+use crate::error::Error;
+use crate::image::GreyImage;
+use crate::io::image_file::png_to_grey;
+use crate::io::recording::Recording;
+use crate::track::suit_motion::VideoTiming;
+use crate::track::take::{Take, TakeExport};
+use crate::track::tracker::{TrackMethod, Tracker};
+
+/// The video as the page's decoder describes it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VideoDescription {
+    pub width_px: u32,
+    pub height_px: u32,
+    pub fps: f64,
+    /// How many frames the video is expected to have (for the warnings
+    /// about a video and BVH of different lengths; more may come).
+    pub frame_count: usize,
+}
+
+/// A file the page read: its name (for messages) and bytes.
+#[derive(Clone, Copy, Debug)]
+pub struct NamedBytes<'a> {
+    pub name: &'a str,
+    pub bytes: &'a [u8],
+}
+
+/// Where one frame put the actor, as the job reports it while it runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameProgress {
+    /// The frame's index in the video.
+    pub frame: usize,
+    /// The filter's position so far (x, z, cm; smoothed only at the end).
+    pub floor_cm: DVec2,
+    /// How well the camera saw the body, 0 to 1.
+    pub confidence: f64,
+}
+
+/// One take being tracked.
+pub struct TrackingJob {
+    take: Take,
+    video_name: String,
+    tracker: Option<Tracker>,
+}
+
+impl TrackingJob {
+    /// Opens the take: the recording and the camera parsed, the background
+    /// still decoded, their sizes checked against the video's (each error
+    /// names its file and, in text, the line and column).
+    pub fn open(
+        recording: NamedBytes,
+        camera: NamedBytes,
+        background: NamedBytes,
+        video_name: &str,
+        video: VideoDescription,
+        method: TrackMethod,
+        offset_s: f64,
+    ) -> Result<TrackingJob, Error> {
+        if video.frame_count == 0 || !(video.fps.is_finite() && video.fps > 0.0) {
+            return Err(Error::whole(
+                video_name,
+                format!("{} frames at {} fps: not a video to track", video.frame_count, video.fps),
+            ));
+        }
+        if !offset_s.is_finite() {
+            return Err(Error::whole("the time offset", format!("{offset_s} s is not a time")));
+        }
+        let recording = Recording::parse(recording.bytes, recording.name, None)?;
+        let camera_text = std::str::from_utf8(camera.bytes)
+            .map_err(|e| Error::whole(camera.name, format!("not UTF-8 text: {e}")))?;
+        let camera = Camera::from_json(camera_text, camera.name)?;
+        camera.check_image_size(video.width_px, video.height_px, video_name)?;
+        let background = png_to_grey(background.bytes, background.name)?;
+        let timing = VideoTiming { fps: video.fps, frame_count: video.frame_count, offset_s };
+        let take = Take::new(recording, camera, background, timing, method, Vec::new())?;
+        let tracker = Tracker::new(take.setup.clone())?;
+        Ok(TrackingJob { take, video_name: video_name.to_string(), tracker: Some(tracker) })
+    }
+
+    /// What the user should know before the frames come (frames without a
+    /// pose, a video and BVH of different lengths).
+    pub fn warnings(&self) -> &[String] {
+        &self.take.warnings
+    }
+
+    /// The frames read so far.
+    pub fn frames_done(&self) -> usize {
+        self.tracker.as_ref().map_or(0, |t| t.frame_count())
+    }
+
+    /// Tracks the next frame from its luma plane (see
+    /// [`GreyImage::from_luma`]).
+    pub fn push_luma(
+        &mut self,
+        luma: &[u8],
+        stride: usize,
+        full_range: bool,
+    ) -> Result<FrameProgress, Error> {
+        let frame = self.frames_done();
+        let size = self.take.setup.camera.image_size;
+        let label = format!("{} frame {frame}", self.video_name);
+        let grey = GreyImage::from_luma(size.width_px, size.height_px, luma, stride, full_range, &label)?;
+        self.push_grey(&grey)
+    }
+
+    /// Tracks the next frame, already grey.
+    pub fn push_grey(&mut self, grey: &GreyImage) -> Result<FrameProgress, Error> {
+        let frame = self.frames_done();
+        let Some(tracker) = self.tracker.as_mut() else {
+            return Err(Error::whole(&self.video_name, "the tracking has ended: open the take again"));
+        };
+        let tracked = tracker.push_frame(grey)?;
+        Ok(FrameProgress { frame, floor_cm: tracked.floor_cm, confidence: tracked.confidence })
+    }
+
+    /// Smooths the track and writes it; the warnings the tracking adds (frames
+    /// the camera did not see) are in the returned list. An error when no
+    /// frame was read, or the job has already finished.
+    pub fn finish(&mut self) -> Result<(TakeExport, Vec<String>), Error> {
+        if self.frames_done() == 0 {
+            return Err(Error::whole(&self.video_name, "no frame was read: nothing to write"));
+        }
+        let Some(tracker) = self.tracker.take() else {
+            return Err(Error::whole(&self.video_name, "the tracking has already ended"));
+        };
+        let track = tracker.finish();
+        let export = self.take.export(&track, &self.take.setup.timing);
+        Ok((export, track.warnings))
+    }
+}
