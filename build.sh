@@ -60,19 +60,26 @@ ensure_ffmpeg() {
 
 # --- building ------------------------------------------------------------------
 
+# The library for wasm with only the features $1, bound for the page into $2.
+build_wasm() {
+    cargo build --lib --release --target "$WASM_TARGET" --no-default-features --features "$1"
+    mkdir -p "$2"
+    wasm-bindgen --target web --out-dir "$2" "target/$WASM_TARGET/release/embusen.wasm"
+    # npm's binaryen: Debian's wasm-opt (108) breaks this module.
+    node_modules/.bin/wasm-opt -O3 --enable-simd --enable-bulk-memory --enable-nontrapping-float-to-int \
+        --enable-sign-ext --enable-mutable-globals --enable-reference-types --enable-multivalue \
+        "$2/embusen_bg.wasm" -o "$2/embusen_bg.wasm"
+}
+
 cmd_build() {
     ensure_rust
     ensure_wasm_bindgen
     ensure_node_packages
-    cargo build --lib --release --target "$WASM_TARGET"
     rm -rf dist
-    mkdir -p dist/pkg
-    wasm-bindgen --target web --out-dir dist/pkg \
-        "target/$WASM_TARGET/release/embusen.wasm"
-    # npm's binaryen: Debian's wasm-opt (108) breaks this module.
-    node_modules/.bin/wasm-opt -O3 --enable-simd --enable-bulk-memory --enable-nontrapping-float-to-int \
-        --enable-sign-ext --enable-mutable-globals --enable-reference-types --enable-multivalue \
-        dist/pkg/embusen_bg.wasm -o dist/pkg/embusen_bg.wasm
+    # Two modules (src/web/mod.rs): the player, which every page loads, and
+    # the camera tracker, which its Web Worker fetches only to track a video.
+    build_wasm web-player dist/pkg
+    build_wasm board,web-camera dist/pkg-camera
     cp www/*.html www/*.js www/*.css dist/
     echo "built dist/ ($(du -sh dist | cut -f1))" >&2
 }
@@ -98,7 +105,7 @@ cmd_test() {
     ensure_chromium
     CHROMEDRIVER=/usr/bin/chromedriver WASM_BINDGEN_TEST_TIMEOUT=120 \
         cargo test --release --target "$WASM_TARGET" --test wasm --test image --test track_browser
-    node --test tests/browser/app.test.mjs
+    node --test tests/browser/app.test.mjs tests/browser/camera.test.mjs
 }
 
 cmd_bench() {

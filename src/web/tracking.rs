@@ -1,0 +1,105 @@
+//! The camera-tracking job for the page's Web Worker (`www/track-worker.js`):
+//! [`app::tracking::TrackingJob`](crate::app::tracking::TrackingJob) behind
+//! wasm-bindgen. Bytes in (the files the page read, each frame's luma
+//! plane), numbers and texts out; nothing here touches the DOM, so it runs
+//! where there is no window.
+
+use wasm_bindgen::prelude::*;
+
+use crate::app::tracking::{NamedBytes, TrackingJob, VideoDescription};
+use crate::track::paper::PaperTrackParams;
+use crate::track::tracker::{FusedParams, TrackMethod};
+
+/// One take being tracked in the page.
+#[wasm_bindgen]
+pub struct CameraJob {
+    job: TrackingJob,
+    /// What `finish` wrote, kept for the page to read.
+    recording_text: String,
+    track_csv: String,
+    warnings: Vec<String>,
+}
+
+fn js_error(e: impl std::fmt::Display) -> JsError {
+    JsError::new(&e.to_string())
+}
+
+#[wasm_bindgen]
+impl CameraJob {
+    /// Opens a take; `method` is `"fused"` or `"paper"`. The error names the
+    /// file at fault.
+    #[allow(clippy::too_many_arguments)]
+    #[wasm_bindgen(constructor)]
+    pub fn new(
+        recording_name: &str,
+        recording: &[u8],
+        camera_name: &str,
+        camera: &[u8],
+        background_name: &str,
+        background: &[u8],
+        video_name: &str,
+        width_px: u32,
+        height_px: u32,
+        fps: f64,
+        frame_count: usize,
+        method: &str,
+        offset_s: f64,
+    ) -> Result<CameraJob, JsError> {
+        let method = match method {
+            "fused" => TrackMethod::Fused(FusedParams::default()),
+            "paper" => TrackMethod::Paper(PaperTrackParams::default()),
+            other => return Err(JsError::new(&format!("method {other:?}: \"fused\" or \"paper\""))),
+        };
+        let job = TrackingJob::open(
+            NamedBytes { name: recording_name, bytes: recording },
+            NamedBytes { name: camera_name, bytes: camera },
+            NamedBytes { name: background_name, bytes: background },
+            video_name,
+            VideoDescription { width_px, height_px, fps, frame_count },
+            method,
+            offset_s,
+        )
+        .map_err(js_error)?;
+        let warnings = job.warnings().to_vec();
+        Ok(CameraJob { job, recording_text: String::new(), track_csv: String::new(), warnings })
+    }
+
+    /// The warnings so far (before tracking; after `finish`, its own too).
+    pub fn warnings(&self) -> Vec<String> {
+        self.warnings.clone()
+    }
+
+    /// The frames tracked so far.
+    pub fn frames_done(&self) -> usize {
+        self.job.frames_done()
+    }
+
+    /// Tracks the next frame from its luma plane (rows `stride` bytes apart;
+    /// `full_range` as the decoder's colour space says). Returns
+    /// `[x_cm, z_cm, confidence]`: where the filter has the hips so far.
+    pub fn push_luma(&mut self, luma: &[u8], stride: usize, full_range: bool) -> Result<Vec<f64>, JsError> {
+        let p = self.job.push_luma(luma, stride, full_range).map_err(js_error)?;
+        Ok(vec![p.floor_cm.x, p.floor_cm.y, p.confidence])
+    }
+
+    /// Smooths the track and writes it (then read `recording_text`,
+    /// `track_csv`, `warnings`).
+    pub fn finish(&mut self) -> Result<(), JsError> {
+        let (export, warnings) = self.job.finish().map_err(js_error)?;
+        self.recording_text = export.recording_text;
+        self.track_csv = export.track_csv;
+        self.warnings.extend(warnings);
+        Ok(())
+    }
+
+    /// The corrected recording (after `finish`).
+    pub fn recording_text(&self) -> String {
+        self.recording_text.clone()
+    }
+
+    /// The hips per video frame with the camera's confidence, as CSV (after
+    /// `finish`).
+    pub fn track_csv(&self) -> String {
+        self.track_csv.clone()
+    }
+}

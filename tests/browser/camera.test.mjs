@@ -1,0 +1,154 @@
+// The camera tracking in the page (www/camera.js, www/video-frames.js,
+// www/track-worker.js) end to end in headless Chromium: a shared scene
+// tracked in the page equals `embusen track` byte for byte, every frame of a
+// clip whose pixels say its number is read as that frame, and bad input is a
+// message in the page. Run by `./build.sh test` after the app is built and
+// the CLI compiled (cargo test --release).
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import { execFileSync } from "node:child_process";
+import { mkdtempSync, readFileSync, writeFileSync } from "node:fs";
+import { tmpdir } from "node:os";
+import { join } from "node:path";
+import { startServer, launchBrowser, DATA, HAVE_DATA, ROOT } from "./harness.mjs";
+
+let server;
+let browser;
+const scratch = mkdtempSync(join(tmpdir(), "embusen-camera-"));
+/** Pages the tests open: the clip is served from the scratch folder. */
+const pages = {};
+
+const skipWithoutData = (t) => {
+  if (HAVE_DATA) return false;
+  if (process.env.CI === "true") assert.fail(`${DATA} not found: CI must have the shared recordings`);
+  t.skip(`SKIPPED: ${DATA} not found`);
+  console.log(`SKIPPED: ${DATA} not found; the camera tests on the shared scenes did not run`);
+  return true;
+};
+
+/** Opens the app with the camera panel's inputs given by address; waits until they are read. */
+async function openTake(query) {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(String(e)));
+  await page.goto(`${server.url}/?${query}`);
+  await page.waitForFunction(() => document.querySelector("#camera-panel")?.embusenCamera, null, { timeout: 60000 });
+  return { page, errors };
+}
+
+before(async () => {
+  server = await startServer(pages);
+  browser = await launchBrowser();
+});
+after(async () => {
+  await browser?.close();
+  await server?.close();
+});
+
+test("a scene tracked in the page is embusen track's, byte for byte, at a measured rate", async (t) => {
+  if (skipWithoutData(t)) return;
+  const scene = (s) => join(DATA, "optical", `walk${s}`);
+  const out = join(scratch, "walk.tracked.bvh");
+  execFileSync(join(ROOT, "target/release/embusen"), [
+    "track", scene(".mp4"), "--bvh", scene(".suit.bvh"), "--camera", scene(".camera.json"),
+    "--background", scene(".background.png"), "-o", out,
+  ], { stdio: "pipe" });
+  const { page, errors } = await openTake(
+    "video=/data/optical/walk.mp4&src=/data/optical/walk.suit.bvh&camera=/data/optical/walk.camera.json" +
+      "&background=/data/optical/walk.background.png",
+  );
+  const inputs = await page.textContent("#camera-panel .camera-inputs");
+  assert.match(inputs, /640×480, 30\.000 fps, 195 frames/, inputs);
+  const result = await page.evaluate(() => document.querySelector("#camera-panel").embusenCamera.track());
+  console.log(
+    `walk.mp4 640×480 fused in the page: ${result.framesPerSecond.toFixed(1)} frames per second in all ` +
+      `(reading a frame ${result.readMsPerFrame.toFixed(1)} ms, tracking it ${result.trackMsPerFrame.toFixed(1)} ms, in parallel)`,
+  );
+  assert.equal(result.frames, 195);
+  assert.ok(result.recording === readFileSync(out, "utf8"), "the page's corrected BVH is not the CLI's");
+  assert.ok(result.csv === readFileSync(join(scratch, "walk.tracked.track.csv"), "utf8"), "the page's track CSV is not the CLI's");
+  assert.match(await page.textContent("#camera-panel .camera-status"), /195 frames tracked/);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test("every frame of a clip is read as itself, by its pixels, in H.264 and VP9", async () => {
+  // 90 frames of 160×120 at 30 fps; frame i shows i in binary as 8 bars of
+  // 20 px (white 1, black 0) over a grey field.
+  const [w, h, n] = [160, 120, 90];
+  const raw = Buffer.alloc(n * w * h * 1.5);
+  for (let i = 0; i < n; i++) {
+    const base = i * w * h * 1.5;
+    for (let y = 0; y < h; y++) {
+      for (let x = 0; x < w; x++) raw[base + y * w + x] = (i >> (7 - Math.floor(x / 20))) & 1 ? 235 : 16;
+    }
+    raw.fill(128, base + w * h, base + w * h * 1.5);
+  }
+  writeFileSync(join(scratch, "count.yuv"), raw);
+  const encode = (name, codec) =>
+    execFileSync("ffmpeg", [
+      "-v", "error", "-y", "-f", "rawvideo", "-pix_fmt", "yuv420p", "-s", `${w}x${h}`, "-r", "30",
+      "-i", join(scratch, "count.yuv"), ...codec, join(scratch, name),
+    ]);
+  encode("count.mp4", ["-c:v", "libx264", "-g", "30", "-pix_fmt", "yuv420p"]);
+  encode("count.webm", ["-c:v", "libvpx-vp9", "-g", "30", "-b:v", "1M"]);
+  for (const name of ["count.mp4", "count.webm"]) {
+    const bytes = readFileSync(join(scratch, name)).toString("base64");
+    pages[`/${name}.html`] = `<!doctype html><body><script type="module">
+      import { openVideo, measureFps, frameAt } from "/video-frames.js";
+      const bytes = Uint8Array.from(atob("${bytes}"), (c) => c.charCodeAt(0));
+      const video = await openVideo(new Blob([bytes], { type: "video/${name.endsWith("mp4") ? "mp4" : "webm"}" }), "${name}");
+      const fps = await measureFps(video);
+      const read = [];
+      // Out of order too: a seek backwards must give the frame asked for.
+      const order = [...Array(${n}).keys(), 45, 3, 89, 0];
+      for (const i of order) {
+        const f = await frameAt(video, i, fps);
+        const luma = new Uint8Array(f.luma);
+        let value = 0;
+        for (let bit = 0; bit < 8; bit++) value = value * 2 + (luma[60 * f.stride + bit * 20 + 10] > 128 ? 1 : 0);
+        read.push([i, f.index, value]);
+      }
+      window.done = { fps, read };
+    </script></body>`;
+    const page = await browser.newPage();
+    await page.goto(`${server.url}/${name}.html`);
+    const done = await page.waitForFunction(() => window.done, null, { timeout: 120000 }).then((h) => h.jsonValue());
+    assert.equal(done.fps, 30, name);
+    const wrong = done.read.filter(([asked, index, value]) => index !== asked || value !== asked);
+    assert.deepEqual(wrong, [], `${name}: frames read as another (asked, by timestamp, by pixels)`);
+    assert.equal(done.read.length, n + 4);
+    await page.close();
+  }
+});
+
+test("bad input is a message in the page, and what was open stays open", async (t) => {
+  if (skipWithoutData(t)) return;
+  const { page, errors } = await openTake(
+    "video=/data/optical/walk.mp4&src=/data/optical/walk.suit.bvh&camera=/data/optical/walk.camera.json" +
+      "&background=/data/optical/walk.background.png",
+  );
+  const open = (files) =>
+    page.evaluate(async (files) => {
+      const panel = document.querySelector("#camera-panel");
+      await panel.embusenCamera.open(files.map(([name, text]) => new File([text], name)));
+      return [panel.querySelector(".camera-status").textContent, panel.querySelector(".camera-inputs").textContent];
+    }, files);
+  // A video the browser cannot decode.
+  let [said, inputs] = await open([["broken.mp4", "not a video at all"]]);
+  assert.match(said, /broken\.mp4: this browser cannot decode the video/);
+  assert.match(inputs, /walk\.mp4, 640×480/, "the open video stays");
+  // A camera file for another image size: refused when tracking, naming both sizes.
+  const camera = readFileSync(join(DATA, "optical/walk.camera.json"), "utf8").replace('"width": 640', '"width": 320');
+  await open([["small.camera.json", camera]]);
+  const refused = await page.evaluate(() =>
+    document.querySelector("#camera-panel").embusenCamera.track().then(() => "tracked", (e) => e.message));
+  assert.match(refused, /320/, refused);
+  assert.match(await page.textContent("#camera-panel .camera-status"), /320/);
+  assert.match(await page.textContent("#camera-panel .camera-inputs"), /walk\.mp4, 640×480/);
+  // A file of no kind the panel knows.
+  [said] = await open([["notes.txt", "hello"]]);
+  assert.match(said, /notes\.txt: not a video, a BVH, a camera\.json or a PNG still/);
+  assert.deepEqual(errors, []);
+  await page.close();
+});

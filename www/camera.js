@@ -1,0 +1,307 @@
+// @ts-check
+// Camera tracking in the page: open a video of a suit session with its BVH, a
+// camera.json and a still of the empty room; track the actor in a Web Worker
+// (./track-worker.js, the wasm core's CameraJob) while the frames are read
+// exactly (./video-frames.js); see the track grow, and save the corrected BVH
+// and the hips CSV — the bytes `embusen track` writes for the same files.
+// Nothing leaves the machine.
+//
+//   import { mountCameraTracking } from "./camera.js";
+//   const handle = await mountCameraTracking(element, { video: "walk.mp4", src: "walk.suit.bvh",
+//     camera: "walk.camera.json", background: "walk.background.png" });
+//   const result = await handle.track();   // {recording, csv, warnings, framesPerSecond, ...}
+//   handle.destroy();
+
+import { closeVideo, frameAt, measureFps, openVideo } from "./video-frames.js";
+
+/**
+ * @typedef {object} CameraOptions
+ * @property {string} [video] the video's URL
+ * @property {string} [src] the suit recording's (BVH) URL
+ * @property {string} [camera] the camera.json's URL
+ * @property {string} [background] the background still's URL
+ * @property {"fused" | "paper"} [method]
+ */
+
+/**
+ * @typedef {object} TrackResult
+ * @property {string} recording the corrected recording's text
+ * @property {string} csv the hips per video frame
+ * @property {string[]} warnings
+ * @property {number} frames
+ * @property {number} framesPerSecond tracked frames per second of wall time, frame reading included
+ * @property {number} readMsPerFrame reading a frame (seek, copy of its luma plane)
+ * @property {number} trackMsPerFrame the worker's tracking per frame
+ */
+
+/** @typedef {{name: string, bytes: ArrayBuffer}} NamedFile */
+
+/** What kind of input a file is, by its name (then its type). @param {File} file */
+export function kindOf(file) {
+  const name = file.name.toLowerCase();
+  if (name.endsWith(".bvh")) return "recording";
+  if (name.endsWith(".json")) return "camera";
+  if (name.endsWith(".png")) return "background";
+  if (/\.(mp4|m4v|webm|mov|mkv|ogv)$/.test(name) || file.type.startsWith("video/")) return "video";
+  return null;
+}
+
+const PANEL = `
+  <div class="camera-controls">
+    <label class="file">Open video + BVH + camera.json + background… <input type="file" multiple accept="video/*,.bvh,.json,.png"></label>
+    <label>method <select data-setting="method"><option value="fused">fused</option><option value="paper">paper</option></select></label>
+    <button data-action="track">Track</button>
+    <button data-action="cancel" disabled>Cancel</button>
+    <progress value="0" max="1"></progress>
+    <button data-action="export-recording" disabled title="download the corrected BVH">⬇ corrected BVH</button>
+    <button data-action="export-track" disabled title="download the hips track with the camera's confidence">⬇ track CSV</button>
+  </div>
+  <ul class="camera-inputs"></ul>
+  <p class="camera-status" role="status"></p>
+  <div class="camera-views"><div class="camera-video"></div><canvas class="camera-top" width="320" height="240"></canvas></div>`;
+
+/**
+ * Mounts the camera tracking panel in `element`.
+ * @param {HTMLElement} element
+ * @param {CameraOptions} [options]
+ */
+export async function mountCameraTracking(element, options = {}) {
+  element.classList.add("embusen-camera");
+  element.innerHTML = PANEL;
+  const $ = (/** @type {string} */ sel) => /** @type {HTMLElement} */ (element.querySelector(sel));
+  const status = $(".camera-status");
+  const progress = /** @type {HTMLProgressElement} */ ($("progress"));
+  const trackButton = /** @type {HTMLButtonElement} */ ($('[data-action="track"]'));
+  const cancelButton = /** @type {HTMLButtonElement} */ ($('[data-action="cancel"]'));
+  const exportRecording = /** @type {HTMLButtonElement} */ ($('[data-action="export-recording"]'));
+  const exportTrack = /** @type {HTMLButtonElement} */ ($('[data-action="export-track"]'));
+  const methodSelect = /** @type {HTMLSelectElement} */ ($('[data-setting="method"]'));
+  const top = /** @type {HTMLCanvasElement} */ ($(".camera-top"));
+  methodSelect.value = options.method ?? "fused";
+
+  /** @type {{recording?: NamedFile, camera?: NamedFile, background?: NamedFile, video?: {file: Blob, name: string, element: HTMLVideoElement, fps: number, frameCount: number}}} */
+  const inputs = {};
+  /** @type {TrackResult | null} */
+  let result = null;
+  /** @type {Worker | null} */
+  let worker = null;
+  let cancelled = false;
+  /** @type {Array<[number, number, number]>} */
+  let path = [];
+
+  const say = (/** @type {string} */ text, /** @type {boolean} */ isError = false) => {
+    status.textContent = text;
+    status.classList.toggle("error", isError);
+  };
+
+  function showInputs() {
+    const line = (/** @type {string} */ what, /** @type {string | undefined} */ have) =>
+      `<li class="${have ? "have" : "missing"}">${what}: ${have ?? "missing"}</li>`;
+    const v = inputs.video;
+    $(".camera-inputs").innerHTML = [
+      line("video", v && `${v.name}, ${v.element.videoWidth}×${v.element.videoHeight}, ${v.fps.toFixed(3)} fps, ${v.frameCount} frames`),
+      line("suit recording (BVH)", inputs.recording?.name),
+      line("camera (camera.json)", inputs.camera?.name),
+      line("background still (PNG)", inputs.background?.name),
+    ].join("");
+    const missing = ["video", "recording", "camera", "background"].filter((k) => !(/** @type {any} */ (inputs))[k]);
+    trackButton.disabled = missing.length > 0 || worker !== null;
+    if (missing.length > 0 && !worker) say(`to track, open also: ${missing.join(", ")}`);
+  }
+
+  /** Opens one input (a file the user gave, or one fetched); the others stay. */
+  async function add(/** @type {Blob} */ blob, /** @type {string} */ name, /** @type {string | null} */ kind) {
+    if (kind === "video") {
+      const video = await openVideo(blob, name);
+      try {
+        const fps = await measureFps(video);
+        const frameCount = Math.round(video.duration * fps);
+        if (inputs.video) closeVideo(inputs.video.element);
+        inputs.video = { file: blob, name, element: video, fps, frameCount };
+        $(".camera-video").replaceChildren(video);
+      } catch (e) {
+        closeVideo(video);
+        throw e;
+      }
+    } else if (kind === "recording" || kind === "camera" || kind === "background") {
+      inputs[kind] = { name, bytes: await blob.arrayBuffer() };
+    } else {
+      throw new Error(`${name}: not a video, a BVH, a camera.json or a PNG still`);
+    }
+  }
+
+  /** Opens files in any order, each recognised by its name; a bad one is reported, the rest kept. */
+  async function open(/** @type {FileList | File[]} */ files) {
+    const problems = [];
+    for (const file of Array.from(files)) {
+      try {
+        await add(file, file.name, kindOf(file));
+      } catch (e) {
+        problems.push(e instanceof Error ? e.message : String(e));
+      }
+    }
+    result = null;
+    showInputs();
+    if (problems.length > 0) say(problems.join("; "), true);
+  }
+
+  async function openUrl(/** @type {string} */ url, /** @type {string} */ kind) {
+    const response = await fetch(url);
+    if (!response.ok) throw new Error(`${url}: ${response.status} ${response.statusText}`);
+    await add(await response.blob(), url.split("/").pop() || url, kind);
+  }
+
+  function drawTop() {
+    const ctx = top.getContext("2d");
+    if (!ctx) return;
+    ctx.fillStyle = "#1e2126";
+    ctx.fillRect(0, 0, top.width, top.height);
+    if (path.length === 0) return;
+    const xs = path.map((p) => p[0]), zs = path.map((p) => p[1]);
+    const [x0, x1, z0, z1] = [Math.min(...xs), Math.max(...xs), Math.min(...zs), Math.max(...zs)];
+    const scale = Math.min((top.width - 20) / Math.max(x1 - x0, 50), (top.height - 20) / Math.max(z1 - z0, 50));
+    const at = (/** @type {number[]} */ p) => [10 + (p[0] - x0) * scale, 10 + (p[1] - z0) * scale];
+    ctx.strokeStyle = "#ffc828";
+    ctx.lineWidth = 2;
+    ctx.beginPath();
+    path.forEach((p, i) => (i === 0 ? ctx.moveTo(at(p)[0], at(p)[1]) : ctx.lineTo(at(p)[0], at(p)[1])));
+    ctx.stroke();
+    ctx.fillStyle = "#9aa0aa";
+    ctx.fillText("track from above (cm)", 10, top.height - 6);
+  }
+
+  /**
+   * Tracks the open take; resolves with the result, rejects with the message
+   * the page shows (the inputs are kept either way).
+   * @returns {Promise<TrackResult>}
+   */
+  async function track() {
+    const { video, recording, camera, background } = inputs;
+    if (!video || !recording || !camera || !background) throw new Error("open a video, its BVH, a camera.json and a background still first");
+    cancelled = false;
+    path = [];
+    result = null;
+    exportRecording.disabled = exportTrack.disabled = true;
+    trackButton.disabled = true;
+    cancelButton.disabled = false;
+    const w = new Worker(new URL("./track-worker.js", import.meta.url), { type: "module" });
+    worker = w;
+    /** @type {Map<string, (m: any) => void>} */
+    const waiting = new Map();
+    let inFlight = 0;
+    /** @type {(() => void) | null} */
+    let slot = null;
+    /** @type {string | null} */
+    let failure = null;
+    const failed = new Promise((_, reject) => {
+      w.onmessage = (event) => {
+        const m = event.data;
+        if (m.type === "error") {
+          failure = m.message;
+          reject(new Error(m.message));
+        } else if (m.type === "progress") {
+          inFlight--;
+          slot?.();
+          path.push([m.x, m.z, m.confidence]);
+          progress.value = (m.frame + 1) / video.frameCount;
+          if (m.frame % 10 === 0) drawTop();
+        } else waiting.get(m.type)?.(m);
+      };
+      w.onerror = (e) => reject(new Error(`the tracker's worker failed: ${e.message}`));
+    });
+    failed.catch(() => {});
+    const reply = (/** @type {string} */ type) =>
+      Promise.race([new Promise((ok) => waiting.set(type, ok)), failed]);
+    const started = performance.now();
+    let readMs = 0;
+    try {
+      const copy = (/** @type {NamedFile} */ f) => ({ name: f.name, bytes: f.bytes.slice(0) });
+      w.postMessage({
+        type: "open", recording: copy(recording), camera: copy(camera), background: copy(background),
+        video: { name: video.name, width: video.element.videoWidth, height: video.element.videoHeight, fps: video.fps, frameCount: video.frameCount },
+        method: methodSelect.value, offsetS: 0,
+      });
+      const opened = /** @type {any} */ (await reply("opened"));
+      if (opened.warnings.length > 0) say(opened.warnings.join("; "));
+      for (let i = 0; i < video.frameCount; i++) {
+        if (cancelled) throw new Error("cancelled: the inputs are kept, track again when ready");
+        if (failure) throw new Error(failure);
+        const t = performance.now();
+        const frame = await frameAt(video.element, i, video.fps);
+        readMs += performance.now() - t;
+        // At most a few frames wait in the worker: memory stays bounded.
+        while (inFlight >= 3) await Promise.race([new Promise((ok) => (slot = () => ok(null))), failed]);
+        inFlight++;
+        w.postMessage({ type: "frame", luma: frame.luma, stride: frame.stride, fullRange: frame.fullRange }, [frame.luma]);
+        if (i % 10 === 0) say(`tracking: frame ${i + 1} of ${video.frameCount}`);
+      }
+      w.postMessage({ type: "finish" });
+      const done = /** @type {any} */ (await reply("done"));
+      const seconds = (performance.now() - started) / 1000;
+      result = {
+        recording: done.recording, csv: done.csv, warnings: done.warnings, frames: video.frameCount,
+        framesPerSecond: video.frameCount / seconds, readMsPerFrame: readMs / video.frameCount, trackMsPerFrame: done.msPerFrame,
+      };
+      drawTop();
+      say(`${methodSelect.value}: ${video.frameCount} frames tracked, ${result.framesPerSecond.toFixed(1)} frames per second` +
+        (done.warnings.length > 0 ? `; ${done.warnings.join("; ")}` : ""));
+      exportRecording.disabled = exportTrack.disabled = false;
+      return result;
+    } catch (e) {
+      say(e instanceof Error ? e.message : String(e), true);
+      throw e;
+    } finally {
+      w.terminate();
+      worker = null;
+      cancelButton.disabled = true;
+      showInputs();
+    }
+  }
+
+  function download(/** @type {string} */ text, /** @type {string} */ name) {
+    const a = document.createElement("a");
+    a.href = URL.createObjectURL(new Blob([text], { type: "text/plain" }));
+    a.download = name;
+    a.click();
+    setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+  }
+  const stem = () => (inputs.recording?.name ?? "take").replace(/(\.suit)?\.bvh$/i, "");
+
+  const input = /** @type {HTMLInputElement} */ ($('input[type="file"]'));
+  input.addEventListener("change", () => input.files && open(input.files));
+  element.addEventListener("dragover", (e) => e.preventDefault());
+  element.addEventListener("drop", (e) => {
+    e.preventDefault();
+    if (e.dataTransfer?.files) void open(e.dataTransfer.files);
+  });
+  trackButton.addEventListener("click", () => void track().catch(() => {}));
+  cancelButton.addEventListener("click", () => (cancelled = true));
+  exportRecording.addEventListener("click", () => result && download(result.recording, `${stem()}.tracked.bvh`));
+  exportTrack.addEventListener("click", () => result && download(result.csv, `${stem()}.tracked.track.csv`));
+
+  const loads = [];
+  for (const [key, kind] of [["video", "video"], ["src", "recording"], ["camera", "camera"], ["background", "background"]]) {
+    const url = /** @type {any} */ (options)[key];
+    if (url) loads.push(openUrl(url, kind).catch((e) => say(e.message, true)));
+  }
+  await Promise.all(loads);
+  showInputs();
+
+  const handle = {
+    element,
+    open,
+    track,
+    cancel: () => (cancelled = true),
+    get result() { return result; },
+    destroy() {
+      cancelled = true;
+      worker?.terminate();
+      worker = null;
+      if (inputs.video) closeVideo(inputs.video.element);
+      element.replaceChildren();
+      element.classList.remove("embusen-camera");
+    },
+  };
+  /** @type {any} */ (element).embusenCamera = handle;
+  return handle;
+}
