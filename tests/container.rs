@@ -12,7 +12,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use embusen::io::container::demux;
+use embusen::io::container::{demux, nominal_fps};
 use proptest::prelude::*;
 
 /// ffprobe's packets of the first video stream: (presentation time in µs,
@@ -62,7 +62,7 @@ fn check(path: &Path, codec_prefix: &str) {
             f.timestamp_us
         );
     }
-    assert!((video.fps() - 30.0).abs() < 0.1, "{name}: {} fps", video.fps());
+    assert_eq!(nominal_fps(video.fps()), 30.0, "{name}: {} fps measured", video.fps());
 }
 
 /// A clip made with ffmpeg in a scratch folder.
@@ -103,6 +103,16 @@ fn clips_with_b_frames_and_several_keyframes_are_read_whole() {
     }
     let e = demux(b"not a video", "notes.mp4").unwrap_err().to_string();
     assert!(e.starts_with("notes.mp4: neither MP4/MOV nor WebM/Matroska"), "{e}");
+}
+
+#[test]
+fn measured_rates_go_to_the_nearest_common_rate_when_near_one() {
+    assert_eq!(nominal_fps(29.998), 30.0);
+    assert_eq!(nominal_fps(29.9701), 30000.0 / 1001.0);
+    assert_eq!(nominal_fps(30.0188), 30.0);
+    assert_eq!(nominal_fps(59.95), 60000.0 / 1001.0);
+    assert_eq!(nominal_fps(27.0), 27.0, "no common rate near: as measured");
+    assert!(nominal_fps(f64::NAN).is_nan());
 }
 
 proptest! {

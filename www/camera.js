@@ -12,6 +12,8 @@
 //   const result = await handle.track();   // {recording, csv, warnings, framesPerSecond, ...}
 //   handle.destroy();
 
+import { loadWasm } from "./embusen.js";
+import { nominal_fps } from "./pkg/embusen.js";
 import { closeVideo, frameAt, measureFps, openVideo } from "./video-frames.js";
 
 /**
@@ -30,8 +32,10 @@ import { closeVideo, frameAt, measureFps, openVideo } from "./video-frames.js";
  * @property {string[]} warnings
  * @property {number} frames
  * @property {number} framesPerSecond tracked frames per second of wall time, frame reading included
- * @property {number} readMsPerFrame reading a frame (seek, copy of its luma plane)
+ * @property {number} readMsPerFrame reading a frame: decoding and copying its luma plane in the worker, or a seek here
  * @property {number} trackMsPerFrame the worker's tracking per frame
+ * @property {boolean} decodedInWorker whether the worker decoded the frames itself (WebCodecs)
+ * @property {string | null} whyNotDecoded why not, when it did not
  */
 
 /** @typedef {{name: string, bytes: ArrayBuffer}} NamedFile */
@@ -114,7 +118,8 @@ export async function mountCameraTracking(element, options = {}) {
     if (kind === "video") {
       const video = await openVideo(blob, name);
       try {
-        const fps = await measureFps(video);
+        await loadWasm();
+        const fps = nominal_fps(await measureFps(video));
         const frameCount = Math.round(video.duration * fps);
         if (inputs.video) closeVideo(inputs.video.element);
         inputs.video = { file: blob, name, element: video, fps, frameCount };
@@ -189,6 +194,7 @@ export async function mountCameraTracking(element, options = {}) {
     /** @type {Map<string, (m: any) => void>} */
     const waiting = new Map();
     let inFlight = 0;
+    let frameCount = video.frameCount;
     /** @type {(() => void) | null} */
     let slot = null;
     /** @type {string | null} */
@@ -200,11 +206,14 @@ export async function mountCameraTracking(element, options = {}) {
           failure = m.message;
           reject(new Error(m.message));
         } else if (m.type === "progress") {
-          inFlight--;
+          inFlight = Math.max(0, inFlight - 1);
           slot?.();
           path.push([m.x, m.z, m.confidence]);
-          progress.value = (m.frame + 1) / video.frameCount;
-          if (m.frame % 10 === 0) drawTop();
+          progress.value = (m.frame + 1) / frameCount;
+          if (m.frame % 10 === 0) {
+            drawTop();
+            say(`tracking: frame ${m.frame + 1} of ${frameCount}`);
+          }
         } else waiting.get(m.type)?.(m);
       };
       w.onerror = (e) => reject(new Error(`the tracker's worker failed: ${e.message}`));
@@ -216,34 +225,55 @@ export async function mountCameraTracking(element, options = {}) {
     let readMs = 0;
     try {
       const copy = (/** @type {NamedFile} */ f) => ({ name: f.name, bytes: f.bytes.slice(0) });
+      const videoBytes = await video.file.arrayBuffer();
       w.postMessage({
         type: "open", recording: copy(recording), camera: copy(camera), background: copy(background),
-        video: { name: video.name, width: video.element.videoWidth, height: video.element.videoHeight, fps: video.fps, frameCount: video.frameCount },
+        video: {
+          name: video.name, width: video.element.videoWidth, height: video.element.videoHeight, fps: video.fps,
+          frameCount: video.frameCount, bytes: videoBytes,
+        },
         method: methodSelect.value, offsetS: 0,
-      });
+      }, [videoBytes]);
       const opened = /** @type {any} */ (await reply("opened"));
+      frameCount = opened.frameCount;
       if (opened.warnings.length > 0) say(opened.warnings.join("; "));
-      for (let i = 0; i < video.frameCount; i++) {
-        if (cancelled) throw new Error("cancelled: the inputs are kept, track again when ready");
-        if (failure) throw new Error(failure);
-        const t = performance.now();
-        const frame = await frameAt(video.element, i, video.fps);
-        readMs += performance.now() - t;
-        // At most a few frames wait in the worker: memory stays bounded.
-        while (inFlight >= 3) await Promise.race([new Promise((ok) => (slot = () => ok(null))), failed]);
-        inFlight++;
-        w.postMessage({ type: "frame", luma: frame.luma, stride: frame.stride, fullRange: frame.fullRange }, [frame.luma]);
-        if (i % 10 === 0) say(`tracking: frame ${i + 1} of ${video.frameCount}`);
+      // The worker decodes the frames itself (WebCodecs, each frame once, in
+      // order) where it can read the container; else they are read here, a
+      // seek each.
+      if (!opened.decodes) {
+        for (let i = 0; i < frameCount; i++) {
+          if (cancelled) throw new Error("cancelled: the inputs are kept, track again when ready");
+          if (failure) throw new Error(failure);
+          const t = performance.now();
+          const frame = await frameAt(video.element, i, video.fps);
+          readMs += performance.now() - t;
+          // At most a few frames wait in the worker: memory stays bounded.
+          while (inFlight >= 3) await Promise.race([new Promise((ok) => (slot = () => ok(null))), failed]);
+          inFlight++;
+          w.postMessage({ type: "frame", luma: frame.luma, stride: frame.stride, fullRange: frame.fullRange }, [frame.luma]);
+        }
+        w.postMessage({ type: "finish" });
       }
-      w.postMessage({ type: "finish" });
-      const done = /** @type {any} */ (await reply("done"));
+      const done = /** @type {any} */ (await Promise.race([
+        reply("done"),
+        new Promise((_, reject) => {
+          const check = setInterval(() => {
+            if (cancelled) {
+              clearInterval(check);
+              reject(new Error("cancelled: the inputs are kept, track again when ready"));
+            }
+          }, 100);
+          waiting.set("done-check", () => clearInterval(check));
+        }),
+      ]));
       const seconds = (performance.now() - started) / 1000;
       result = {
-        recording: done.recording, csv: done.csv, warnings: done.warnings, frames: video.frameCount,
-        framesPerSecond: video.frameCount / seconds, readMsPerFrame: readMs / video.frameCount, trackMsPerFrame: done.msPerFrame,
+        recording: done.recording, csv: done.csv, warnings: done.warnings, frames: done.frames,
+        framesPerSecond: done.frames / seconds, readMsPerFrame: opened.decodes ? done.decodeMsPerFrame : readMs / done.frames,
+        trackMsPerFrame: done.msPerFrame, decodedInWorker: opened.decodes, whyNotDecoded: opened.why ?? null,
       };
       drawTop();
-      say(`${methodSelect.value}: ${video.frameCount} frames tracked, ${result.framesPerSecond.toFixed(1)} frames per second` +
+      say(`${methodSelect.value}: ${done.frames} frames tracked, ${result.framesPerSecond.toFixed(1)} frames per second` +
         (done.warnings.length > 0 ? `; ${done.warnings.join("; ")}` : ""));
       exportRecording.disabled = exportTrack.disabled = false;
       return result;
@@ -251,6 +281,7 @@ export async function mountCameraTracking(element, options = {}) {
       say(e instanceof Error ? e.message : String(e), true);
       throw e;
     } finally {
+      waiting.get("done-check")?.(null);
       w.terminate();
       worker = null;
       cancelButton.disabled = true;

@@ -47,8 +47,8 @@ window.addEventListener(PANIC_EVENT, (event) => {
 
 /** @type {Promise<Options> | null} */
 let wasmReady = null;
-/** Loads the wasm module once per page, however many players there are. */
-function loadWasm() {
+/** Loads the wasm module once per page, however many players there are (and the camera panel). */
+export function loadWasm() {
   wasmReady ??= init({ module_or_path: new URL("./pkg/embusen_bg.wasm", import.meta.url) })
     .then(() => playerOptions())
     .catch((e) => {

@@ -1,19 +1,27 @@
 // @ts-check
 // The camera tracker's Web Worker: it owns one wasm CameraJob (src/web/tracking.rs)
-// so the page stays responsive while frames are tracked. Messages in:
-//   {type: "open", recording, camera, background: {name, bytes}, video: {name, width, height, fps, frameCount}, method, offsetS}
-//   {type: "frame", luma: ArrayBuffer, stride, fullRange}     (any number, in order)
-//   {type: "finish"}
-// Messages out: {type: "opened", warnings}, {type: "progress", frame, x, z, confidence},
-// {type: "done", recording, csv, warnings, msPerFrame}, {type: "error", message}.
+// so the page stays responsive while frames are tracked. Where it can read the
+// video's container (io::container: MP4/MOV, WebM/Matroska) and the browser
+// has a WebCodecs decoder for its codec, it decodes the frames itself, each
+// once and in order; else the page sends them, read a seek each.
+// Messages in:
+//   {type: "open", recording, camera, background: {name, bytes},
+//    video: {name, width, height, fps, frameCount, bytes}, method, offsetS}
+//   {type: "frame", luma: ArrayBuffer, stride, fullRange}     (only when it does not decode)
+//   {type: "finish"}                                          (likewise)
+// Messages out: {type: "opened", decodes, why, fps, frameCount, warnings},
+// {type: "progress", frame, x, z, confidence},
+// {type: "done", recording, csv, warnings, frames, msPerFrame, decodeMsPerFrame}, {type: "error", message}.
 // After an error the worker takes nothing more: the page starts a new one.
 
-import init, { CameraJob } from "./pkg-camera/embusen.js";
+import init, { CameraJob, demux_video } from "./pkg-camera/embusen.js";
+import { lumaOf } from "./video-frames.js";
 
 /** @type {CameraJob | null} */
 let job = null;
 let failed = false;
 let busyMs = 0;
+let decodeMs = 0;
 /** The worker's own postMessage (the DOM types only know the window's). @param {any} m */
 const post = (m) => /** @type {any} */ (self).postMessage(m);
 const ready = init({ module_or_path: new URL("./pkg-camera/embusen_bg.wasm", import.meta.url) });
@@ -32,38 +40,151 @@ self.onmessage = (event) => {
   queue = queue.then(() => handle(event.data)).catch(fail);
 };
 
+/**
+ * The video's frames as a decoder wants them, or why they cannot be had.
+ * @param {{name: string, bytes?: ArrayBuffer}} video
+ */
+async function decodable(video) {
+  if (typeof VideoDecoder === "undefined") return { why: "this browser has no WebCodecs decoder" };
+  if (!video.bytes) return { why: "the page sent no file" };
+  let demuxed;
+  try {
+    demuxed = demux_video(new Uint8Array(video.bytes), video.name);
+  } catch (e) {
+    return { why: e instanceof Error ? e.message : String(e) };
+  }
+  const description = demuxed.description();
+  /** @type {VideoDecoderConfig} */
+  const config = {
+    codec: demuxed.codec(), codedWidth: demuxed.width_px(), codedHeight: demuxed.height_px(),
+    ...(description ? { description } : {}),
+  };
+  const support = await VideoDecoder.isConfigSupported(config).catch(() => ({ supported: false }));
+  if (!support.supported) {
+    demuxed.free();
+    return { why: `${video.name}: this browser cannot decode ${config.codec} in a worker` };
+  }
+  return { demuxed, config };
+}
+
 /** @param {any} m */
 async function handle(m) {
   if (failed) return;
   await ready;
   if (m.type === "open") {
     const v = m.video;
+    const { demuxed, config, why } = await decodable(v);
+    const fps = demuxed ? demuxed.fps() : v.fps;
+    const frameCount = demuxed ? demuxed.frame_count() : v.frameCount;
     job = new CameraJob(
       m.recording.name, new Uint8Array(m.recording.bytes),
       m.camera.name, new Uint8Array(m.camera.bytes),
       m.background.name, new Uint8Array(m.background.bytes),
-      v.name, v.width, v.height, v.fps, v.frameCount, m.method, m.offsetS,
+      v.name, v.width, v.height, fps, frameCount, m.method, m.offsetS,
     );
-    busyMs = 0;
-    post({ type: "opened", warnings: job.warnings() });
+    busyMs = decodeMs = 0;
+    post({ type: "opened", decodes: Boolean(demuxed), why: why ?? null, fps, frameCount, warnings: job.warnings() });
+    if (demuxed && config) {
+      const frames = demuxed.frames();
+      demuxed.free();
+      await decodeAndTrack(new Uint8Array(v.bytes), v.name, frames, config);
+      finish();
+    }
   } else if (m.type === "frame") {
     if (!job) throw new Error("a frame before the take was opened");
-    const started = performance.now();
-    const frame = job.frames_done();
-    const [x, z, confidence] = job.push_luma(new Uint8Array(m.luma), m.stride, m.fullRange);
-    busyMs += performance.now() - started;
-    post({ type: "progress", frame, x, z, confidence });
+    track(new Uint8Array(m.luma), m.stride, m.fullRange);
   } else if (m.type === "finish") {
-    if (!job) throw new Error("nothing to finish: the take was not opened");
-    const frames = job.frames_done();
-    const started = performance.now();
-    job.finish();
-    busyMs += performance.now() - started;
-    post({
-      type: "done", recording: job.recording_text(), csv: job.track_csv(), warnings: job.warnings(),
-      msPerFrame: busyMs / Math.max(1, frames),
-    });
-    job.free();
-    job = null;
+    finish();
   }
+}
+
+/** Tracks one frame and says where it put the actor. */
+function track(/** @type {Uint8Array} */ luma, /** @type {number} */ stride, /** @type {boolean} */ fullRange) {
+  if (!job) throw new Error("no take is open");
+  const started = performance.now();
+  const frame = job.frames_done();
+  const [x, z, confidence] = job.push_luma(luma, stride, fullRange);
+  busyMs += performance.now() - started;
+  post({ type: "progress", frame, x, z, confidence });
+}
+
+function finish() {
+  if (!job) throw new Error("nothing to finish: the take was not opened");
+  const frames = job.frames_done();
+  const started = performance.now();
+  job.finish();
+  busyMs += performance.now() - started;
+  post({
+    type: "done", recording: job.recording_text(), csv: job.track_csv(), warnings: job.warnings(), frames,
+    msPerFrame: busyMs / Math.max(1, frames), decodeMsPerFrame: decodeMs / Math.max(1, frames),
+  });
+  job.free();
+  job = null;
+}
+
+/**
+ * Decodes every frame (`table`: per frame in decoding order its offset,
+ * size, time in µs and keyframe flag) and tracks each as it comes out, in
+ * presentation order: the k-th frame out is the CLI's frame k. A few frames
+ * are decoded ahead while one is tracked; each is closed as soon as its luma
+ * is copied, so the decoder never runs out of frames.
+ * @param {Uint8Array} bytes
+ * @param {string} name
+ * @param {Float64Array | number[]} table
+ * @param {VideoDecoderConfig} config
+ */
+async function decodeAndTrack(bytes, name, table, config) {
+  const n = table.length / 4;
+  /** @type {VideoFrame[]} */
+  const out = [];
+  /** @type {DOMException | null} */
+  let error = null;
+  /** @type {(() => void) | null} */
+  let wake = null;
+  const poke = () => wake?.();
+  const decoder = new VideoDecoder({ output: (f) => (out.push(f), poke()), error: (e) => ((error = e), poke()) });
+  decoder.addEventListener("dequeue", poke);
+  decoder.configure(config);
+  let fed = 0;
+  let tracked = 0;
+  let flushed = false;
+  let lastTimestamp = -Infinity;
+  try {
+    while (tracked < n) {
+      while (fed < n && decoder.decodeQueueSize < 4 && out.length < 4) {
+        const [offset, size, timestamp, key] = [table[4 * fed], table[4 * fed + 1], table[4 * fed + 2], table[4 * fed + 3]];
+        decoder.decode(new EncodedVideoChunk({ type: key ? "key" : "delta", timestamp, data: bytes.subarray(offset, offset + size) }));
+        fed++;
+        if (fed === n) decoder.flush().then(() => ((flushed = true), poke()), (e) => ((error = e), poke()));
+      }
+      if (error) throw new Error(`${name}: the decoder failed after ${tracked} frames: ${/** @type {any} */ (error).message}`);
+      const frame = out.shift();
+      if (!frame) {
+        if (flushed) break;
+        // Woken by an output, a dequeue, the flush or an error; a timer too.
+        await new Promise((ok) => {
+          wake = () => ok(null);
+          setTimeout(wake, 20);
+        });
+        wake = null;
+        continue;
+      }
+      let luma;
+      const started = performance.now();
+      try {
+        if (frame.timestamp <= lastTimestamp) throw new Error(`${name}: the decoder gave frame ${tracked} out of order`);
+        lastTimestamp = frame.timestamp;
+        luma = await lumaOf(frame);
+      } finally {
+        frame.close();
+      }
+      decodeMs += performance.now() - started;
+      track(new Uint8Array(luma.luma), luma.stride, luma.fullRange);
+      tracked++;
+    }
+  } finally {
+    for (const f of out) f.close();
+    if (decoder.state !== "closed") decoder.close();
+  }
+  if (tracked !== n) throw new Error(`${name}: ${n} frames in the file, the decoder gave ${tracked}`);
 }

@@ -7,9 +7,6 @@
 // makes grey exactly as `embusen track` does through ffmpeg
 // (GreyImage::from_luma), so the page and the CLI track the same bytes.
 
-/** Frame rates cameras record at. */
-const COMMON_FPS = [24000 / 1001, 24, 25, 30000 / 1001, 30, 48, 50, 60000 / 1001, 60, 100, 120000 / 1001, 120];
-
 /**
  * @typedef {object} LumaFrame
  * @property {number} index the frame's index, from its timestamp
@@ -50,11 +47,10 @@ export function closeVideo(video) {
 }
 
 /**
- * The video's frame rate: the frames presented while it plays a moment are
- * counted (each step between their timestamps a whole number of the
- * shortest) over the time their timestamps span, and the nearest common
- * rate taken when within 0.3 % (timestamps are rounded to the container's
- * time base; 30000/1001 and 30, 0.1 % apart, go to the nearer).
+ * The video's frame rate as measured: the frames presented while it plays a
+ * moment are counted (each step between their timestamps a whole number of
+ * the shortest) over the time their timestamps span. (The core's
+ * `nominal_fps` turns it into the rate the camera recorded at.)
  * @param {HTMLVideoElement} video
  * @returns {Promise<number>}
  */
@@ -77,9 +73,7 @@ export async function measureFps(video) {
   if (steps.length === 0) throw new Error("the video's frame rate could not be measured: it presented no two frames");
   const span = times[times.length - 1] - times[0];
   const frames = steps.reduce((sum, d) => sum + Math.round(d / Math.min(...steps)), 0);
-  const fps = frames / span;
-  const nearest = COMMON_FPS.reduce((a, b) => (Math.abs(fps - a) < Math.abs(fps - b) ? a : b));
-  return Math.abs(fps - nearest) / nearest < 3e-3 ? nearest : fps;
+  return frames / span;
 }
 
 /**
@@ -129,7 +123,7 @@ function presentedAt(video, timeS) {
  * @param {VideoFrame} frame
  * @returns {Promise<{luma: ArrayBuffer, stride: number, fullRange: boolean}>}
  */
-async function lumaOf(frame) {
+export async function lumaOf(frame) {
   const rect = frame.visibleRect;
   if (!rect) throw new Error("the decoder gives no picture size");
   const [w, h] = [rect.width, rect.height];

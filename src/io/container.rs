@@ -58,6 +58,35 @@ impl EncodedVideo {
     }
 }
 
+/// The rates cameras record at (frames per second).
+const COMMON_FPS: [f64; 12] = [
+    24000.0 / 1001.0,
+    24.0,
+    25.0,
+    30000.0 / 1001.0,
+    30.0,
+    48.0,
+    50.0,
+    60000.0 / 1001.0,
+    60.0,
+    100.0,
+    120000.0 / 1001.0,
+    120.0,
+];
+
+/// The rate a video was recorded at, from one measured off its timestamps:
+/// the nearest of the rates cameras use when within 0.3 % of it (timestamps
+/// are rounded to a container's time base, a millisecond in WebM;
+/// 30000/1001 and 30, 0.1 % apart, go to the nearer), else the measured
+/// rate itself. What `ffprobe` reports for such a video, so the page and
+/// `embusen track` time its frames alike.
+pub fn nominal_fps(measured: f64) -> f64 {
+    let nearest = COMMON_FPS.iter().copied().fold(f64::NAN, |best, r| {
+        if best.is_nan() || (measured - r).abs() < (measured - best).abs() { r } else { best }
+    });
+    if (measured - nearest).abs() <= 3e-3 * nearest { nearest } else { measured }
+}
+
 /// Demuxes `bytes`, an MP4/MOV or WebM/Matroska file named `name`.
 pub fn demux(bytes: &[u8], name: &str) -> Result<EncodedVideo, Error> {
     let video = if bytes.len() >= 8 && &bytes[4..8] == b"ftyp" {

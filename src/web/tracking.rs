@@ -7,6 +7,7 @@
 use wasm_bindgen::prelude::*;
 
 use crate::app::tracking::{NamedBytes, TrackingJob, VideoDescription};
+use crate::io::container::{EncodedVideo, demux, nominal_fps};
 use crate::track::paper::PaperTrackParams;
 use crate::track::tracker::{FusedParams, TrackMethod};
 
@@ -101,5 +102,61 @@ impl CameraJob {
     /// `finish`).
     pub fn track_csv(&self) -> String {
         self.track_csv.clone()
+    }
+}
+
+/// A video file's encoded frames, for the worker's `VideoDecoder`
+/// ([`crate::io::container`]).
+#[wasm_bindgen]
+pub struct DemuxedVideo {
+    video: EncodedVideo,
+}
+
+/// Demuxes an MP4/MOV or WebM/Matroska file; the error names the file and
+/// says why (another container, a codec not read here, a truncated file).
+#[wasm_bindgen]
+pub fn demux_video(bytes: &[u8], name: &str) -> Result<DemuxedVideo, JsError> {
+    Ok(DemuxedVideo { video: demux(bytes, name).map_err(js_error)? })
+}
+
+#[wasm_bindgen]
+impl DemuxedVideo {
+    /// The codec as WebCodecs names it.
+    pub fn codec(&self) -> String {
+        self.video.codec.clone()
+    }
+
+    /// The decoder's configuration record, where the codec has one.
+    pub fn description(&self) -> Option<Vec<u8>> {
+        self.video.description.clone()
+    }
+
+    pub fn width_px(&self) -> u32 {
+        self.video.width_px
+    }
+
+    pub fn height_px(&self) -> u32 {
+        self.video.height_px
+    }
+
+    /// The frame rate, as `ffprobe` would report it ([`nominal_fps`]).
+    pub fn fps(&self) -> f64 {
+        nominal_fps(self.video.fps())
+    }
+
+    pub fn frame_count(&self) -> usize {
+        self.video.frames.len()
+    }
+
+    /// Per frame in decoding order, four numbers: its byte offset, its size,
+    /// its presentation time (µs), 1 for a keyframe (else 0).
+    pub fn frames(&self) -> Vec<f64> {
+        self.video
+            .frames
+            .iter()
+            .flat_map(|f| {
+                [f.offset as f64, f.size as f64, f.timestamp_us as f64, f64::from(u8::from(f.keyframe))]
+            })
+            .collect()
     }
 }

@@ -53,8 +53,10 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
     "track", scene(".mp4"), "--bvh", scene(".suit.bvh"), "--camera", scene(".camera.json"),
     "--background", scene(".background.png"), "-o", out,
   ], { stdio: "pipe" });
+  // The player above the panel paused (autoplay=0): its animation would
+  // take a core from the tracking.
   const { page, errors } = await openTake(
-    "video=/data/optical/walk.mp4&src=/data/optical/walk.suit.bvh&camera=/data/optical/walk.camera.json" +
+    "autoplay=0&video=/data/optical/walk.mp4&src=/data/optical/walk.suit.bvh&camera=/data/optical/walk.camera.json" +
       "&background=/data/optical/walk.background.png",
   );
   const inputs = await page.textContent("#camera-panel .camera-inputs");
@@ -62,8 +64,10 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
   const result = await page.evaluate(() => document.querySelector("#camera-panel").embusenCamera.track());
   console.log(
     `walk.mp4 640×480 fused in the page: ${result.framesPerSecond.toFixed(1)} frames per second in all ` +
-      `(reading a frame ${result.readMsPerFrame.toFixed(1)} ms, tracking it ${result.trackMsPerFrame.toFixed(1)} ms, in parallel)`,
+      `(${result.decodedInWorker ? "decoded in the worker" : `read by seeking (${result.whyNotDecoded})`}: ` +
+      `a frame read in ${result.readMsPerFrame.toFixed(1)} ms, tracked in ${result.trackMsPerFrame.toFixed(1)} ms)`,
   );
+  assert.ok(result.decodedInWorker, `the worker did not decode the video: ${result.whyNotDecoded}`);
   assert.equal(result.frames, 195);
   assert.ok(result.recording === readFileSync(out, "utf8"), "the page's corrected BVH is not the CLI's");
   assert.ok(result.csv === readFileSync(join(scratch, "walk.tracked.track.csv"), "utf8"), "the page's track CSV is not the CLI's");
@@ -114,7 +118,7 @@ test("every frame of a clip is read as itself, by its pixels, in H.264 and VP9",
     const page = await browser.newPage();
     await page.goto(`${server.url}/${name}.html`);
     const done = await page.waitForFunction(() => window.done, null, { timeout: 120000 }).then((h) => h.jsonValue());
-    assert.equal(done.fps, 30, name);
+    assert.ok(Math.abs(done.fps - 30) < 0.1, `${name}: ${done.fps} fps measured`);
     const wrong = done.read.filter(([asked, index, value]) => index !== asked || value !== asked);
     assert.deepEqual(wrong, [], `${name}: frames read as another (asked, by timestamp, by pixels)`);
     assert.equal(done.read.length, n + 4);
