@@ -164,15 +164,23 @@ export async function mountCameraTracking(element, options = {}) {
     if (path.length === 0) return;
     const xs = path.map((p) => p[0]), zs = path.map((p) => p[1]);
     const [x0, x1, z0, z1] = [Math.min(...xs), Math.max(...xs), Math.min(...zs), Math.max(...zs)];
-    const scale = Math.min((top.width - 20) / Math.max(x1 - x0, 50), (top.height - 20) / Math.max(z1 - z0, 50));
-    const at = (/** @type {number[]} */ p) => [10 + (p[0] - x0) * scale, 10 + (p[1] - z0) * scale];
+    // The floor seen from above, x right and z down, one scale for both,
+    // the path's box in the middle.
+    const scale = Math.min((top.width - 20) / Math.max(x1 - x0, 50), (top.height - 30) / Math.max(z1 - z0, 50));
+    const [cx, cz] = [(x0 + x1) / 2, (z0 + z1) / 2];
+    const at = (/** @type {number[]} */ p) => [top.width / 2 + (p[0] - cx) * scale, (top.height - 10) / 2 + (p[1] - cz) * scale];
     ctx.strokeStyle = "#ffc828";
     ctx.lineWidth = 2;
     ctx.beginPath();
     path.forEach((p, i) => (i === 0 ? ctx.moveTo(at(p)[0], at(p)[1]) : ctx.lineTo(at(p)[0], at(p)[1])));
     ctx.stroke();
     ctx.fillStyle = "#9aa0aa";
-    ctx.fillText("track from above (cm)", 10, top.height - 6);
+    const [sx, sz] = at(path[0]);
+    ctx.fillRect(sx - 3, sz - 3, 6, 6);
+    // A metre, for scale.
+    ctx.fillRect(top.width - 10 - 100 * scale, top.height - 12, 100 * scale, 2);
+    ctx.fillText("1 m", top.width - 30, top.height - 16);
+    ctx.fillText("the hips from above (■ start)", 10, top.height - 6);
   }
 
   /**

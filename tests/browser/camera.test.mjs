@@ -10,7 +10,8 @@ import { execFileSync } from "node:child_process";
 import { mkdtempSync, readFileSync, writeFileSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
-import { startServer, launchBrowser, DATA, HAVE_DATA, ROOT } from "./harness.mjs";
+import { mkdirSync } from "node:fs";
+import { startServer, launchBrowser, DATA, HAVE_DATA, ROOT, SCREENSHOTS } from "./harness.mjs";
 
 let server;
 let browser;
@@ -72,6 +73,14 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
   assert.ok(result.recording === readFileSync(out, "utf8"), "the page's corrected BVH is not the CLI's");
   assert.ok(result.csv === readFileSync(join(scratch, "walk.tracked.track.csv"), "utf8"), "the page's track CSV is not the CLI's");
   assert.match(await page.textContent("#camera-panel .camera-status"), /195 frames tracked/);
+  // Screenshots of the page with the take tracked, wide and narrow (to look at).
+  mkdirSync(SCREENSHOTS, { recursive: true });
+  const panel = page.locator("#camera");
+  await panel.scrollIntoViewIfNeeded();
+  await page.screenshot({ path: join(SCREENSHOTS, "camera-1280x800.png") });
+  await page.setViewportSize({ width: 390, height: 844 });
+  await panel.scrollIntoViewIfNeeded();
+  await page.screenshot({ path: join(SCREENSHOTS, "camera-390x844.png") });
   assert.deepEqual(errors, []);
   await page.close();
 });
