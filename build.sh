@@ -76,10 +76,12 @@ cmd_build() {
     ensure_wasm_bindgen
     ensure_node_packages
     rm -rf dist
-    # Two modules (src/web/mod.rs): the player, which every page loads, and
-    # the camera tracker, which its Web Worker fetches only to track a video.
+    # Three modules (src/web/mod.rs): the player, which every page loads; the
+    # camera tracker, fetched with a take to track; the board detector,
+    # fetched only to calibrate from a board still.
     build_wasm web-player dist/pkg
-    build_wasm board,web-camera dist/pkg-camera
+    build_wasm web-camera dist/pkg-camera
+    build_wasm web-board dist/pkg-board
     cp www/*.html www/*.js www/*.css dist/
     echo "built dist/ ($(du -sh dist | cut -f1))" >&2
 }

@@ -22,6 +22,7 @@ import { closeVideo, frameAt, measureFps, openVideo } from "./video-frames.js";
  * @property {string} [src] the suit recording's (BVH) URL
  * @property {string} [camera] the camera.json's URL
  * @property {string} [background] the background still's URL
+ * @property {string} [board] a still of the ChArUco board on the floor (its layout BOARD.json beside it)
  * @property {"fused" | "paper"} [method]
  */
 
@@ -44,10 +45,31 @@ import { closeVideo, frameAt, measureFps, openVideo } from "./video-frames.js";
 export function kindOf(file) {
   const name = file.name.toLowerCase();
   if (name.endsWith(".bvh")) return "recording";
-  if (name.endsWith(".json")) return "camera";
-  if (name.endsWith(".png")) return "background";
+  if (name.endsWith(".json")) return "json";
+  if (name.endsWith(".png")) return name.includes("board") ? "board" : "background";
   if (/\.(mp4|m4v|webm|mov|mkv|ogv)$/.test(name) || file.type.startsWith("video/")) return "video";
   return null;
+}
+
+/** @type {Promise<typeof import("./pkg-camera/embusen.js")> | null} */
+let cameraModule = null;
+/** The camera module on this thread (the floor grid), loaded once, when a take has a camera. */
+function loadCameraModule() {
+  cameraModule ??= import("./pkg-camera/embusen.js").then(async (m) => {
+    await m.default({ module_or_path: new URL("./pkg-camera/embusen_bg.wasm", import.meta.url) });
+    return m;
+  });
+  return cameraModule;
+}
+/** @type {Promise<typeof import("./pkg-board/embusen.js")> | null} */
+let boardModule = null;
+/** The board module (the ChArUco detector), loaded once, when a board is used. */
+function loadBoardModule() {
+  boardModule ??= import("./pkg-board/embusen.js").then(async (m) => {
+    await m.default({ module_or_path: new URL("./pkg-board/embusen_bg.wasm", import.meta.url) });
+    return m;
+  });
+  return boardModule;
 }
 
 const PANEL = `
@@ -59,10 +81,12 @@ const PANEL = `
     <progress value="0" max="1"></progress>
     <button data-action="export-recording" disabled title="download the corrected BVH">⬇ corrected BVH</button>
     <button data-action="export-track" disabled title="download the hips track with the camera's confidence">⬇ track CSV</button>
+    <button data-action="calibrate" disabled title="find the board in its still and calibrate the camera from it">Calibrate from board</button>
+    <button data-action="export-camera" disabled title="download the camera as camera.json">⬇ camera.json</button>
   </div>
   <ul class="camera-inputs"></ul>
   <p class="camera-status" role="status"></p>
-  <div class="camera-views"><div class="camera-video"></div><canvas class="camera-top" width="320" height="240"></canvas></div>`;
+  <div class="camera-views"><div class="camera-video"><canvas class="camera-overlay"></canvas></div><canvas class="camera-top" width="320" height="240"></canvas></div>`;
 
 /**
  * Mounts the camera tracking panel in `element`.
@@ -83,8 +107,14 @@ export async function mountCameraTracking(element, options = {}) {
   const top = /** @type {HTMLCanvasElement} */ ($(".camera-top"));
   methodSelect.value = options.method ?? "fused";
 
-  /** @type {{recording?: NamedFile, camera?: NamedFile, background?: NamedFile, video?: {file: Blob, name: string, element: HTMLVideoElement, fps: number, frameCount: number}}} */
+  const calibrateButton = /** @type {HTMLButtonElement} */ ($('[data-action="calibrate"]'));
+  const exportCamera = /** @type {HTMLButtonElement} */ ($('[data-action="export-camera"]'));
+  const overlay = /** @type {HTMLCanvasElement} */ ($(".camera-overlay"));
+  /** (`camera.fromBoard`: calibrated here, so not a lens to calibrate another board with.) */
+  /** @type {{recording?: NamedFile, camera?: NamedFile & {fromBoard?: boolean}, background?: NamedFile, board?: NamedFile, boardLayout?: NamedFile, video?: {file: Blob, name: string, element: HTMLVideoElement, fps: number, frameCount: number}}} */
   const inputs = {};
+  /** The board's corners found in its still (pixels), drawn over the picture. @type {number[]} */
+  let corners = [];
   /** @type {TrackResult | null} */
   let result = null;
   /** @type {Worker | null} */
@@ -107,7 +137,13 @@ export async function mountCameraTracking(element, options = {}) {
       line("suit recording (BVH)", inputs.recording?.name),
       line("camera (camera.json)", inputs.camera?.name),
       line("background still (PNG)", inputs.background?.name),
+      ...(inputs.board || inputs.boardLayout
+        ? [line("board still", inputs.board?.name), line("board layout (BOARD.json)", inputs.boardLayout?.name)]
+        : []),
     ].join("");
+    calibrateButton.disabled = !(inputs.board && inputs.boardLayout) || worker !== null;
+    exportCamera.disabled = !inputs.camera;
+    void drawOverlay();
     const missing = ["video", "recording", "camera", "background"].filter((k) => !(/** @type {any} */ (inputs))[k]);
     trackButton.disabled = missing.length > 0 || worker !== null;
     if (missing.length > 0 && !worker) say(`to track, open also: ${missing.join(", ")}`);
@@ -123,15 +159,26 @@ export async function mountCameraTracking(element, options = {}) {
         const frameCount = Math.round(video.duration * fps);
         if (inputs.video) closeVideo(inputs.video.element);
         inputs.video = { file: blob, name, element: video, fps, frameCount };
-        $(".camera-video").replaceChildren(video);
+        $(".camera-video").replaceChildren(video, overlay);
       } catch (e) {
         closeVideo(video);
         throw e;
       }
-    } else if (kind === "recording" || kind === "camera" || kind === "background") {
+    } else if (kind === "json") {
+      // A camera or a board's layout, told apart by what is in it.
+      const bytes = await blob.arrayBuffer();
+      let parsed;
+      try {
+        parsed = JSON.parse(new TextDecoder().decode(bytes));
+      } catch (e) {
+        throw new Error(`${name}: not JSON (${e instanceof Error ? e.message : e})`);
+      }
+      if (parsed && typeof parsed === "object" && "squares_x" in parsed) inputs.boardLayout = { name, bytes };
+      else inputs.camera = { name, bytes };
+    } else if (kind === "recording" || kind === "camera" || kind === "background" || kind === "board" || kind === "boardLayout") {
       inputs[kind] = { name, bytes: await blob.arrayBuffer() };
     } else {
-      throw new Error(`${name}: not a video, a BVH, a camera.json or a PNG still`);
+      throw new Error(`${name}: not a video, a BVH, a camera.json, a board's layout or a PNG still`);
     }
   }
 
@@ -154,6 +201,75 @@ export async function mountCameraTracking(element, options = {}) {
     const response = await fetch(url);
     if (!response.ok) throw new Error(`${url}: ${response.status} ${response.statusText}`);
     await add(await response.blob(), url.split("/").pop() || url, kind);
+  }
+
+  /** The floor grid (every 50 cm) and the board's corners over the video, as the camera sees them. */
+  async function drawOverlay() {
+    const video = inputs.video?.element;
+    const ctx = overlay.getContext("2d");
+    if (!ctx) return;
+    if (!video || !inputs.camera) {
+      ctx.clearRect(0, 0, overlay.width, overlay.height);
+      return;
+    }
+    [overlay.width, overlay.height] = [video.videoWidth, video.videoHeight];
+    /** @type {number[]} */
+    let grid = [];
+    try {
+      const m = await loadCameraModule();
+      grid = Array.from(m.floor_grid(inputs.camera.name, new TextDecoder().decode(inputs.camera.bytes), 50, 500));
+    } catch (e) {
+      say(e instanceof Error ? e.message : String(e), true);
+    }
+    ctx.clearRect(0, 0, overlay.width, overlay.height);
+    ctx.strokeStyle = "rgba(255, 200, 40, 0.55)";
+    ctx.lineWidth = 1;
+    ctx.beginPath();
+    let pen = false;
+    for (let i = 0; i + 1 < grid.length; i += 2) {
+      const [x, y] = [grid[i] + 0.5, grid[i + 1] + 0.5]; // pixel centres to canvas coordinates
+      if (Number.isNaN(x)) pen = false;
+      else if (pen) ctx.lineTo(x, y);
+      else (ctx.moveTo(x, y), (pen = true));
+    }
+    ctx.stroke();
+    ctx.fillStyle = "#4ade80";
+    for (let i = 0; i + 1 < corners.length; i += 2) ctx.fillRect(corners[i] - 1.5 + 0.5, corners[i + 1] - 1.5 + 0.5, 3, 3);
+  }
+
+  /**
+   * Finds the board in its still and calibrates the camera from it (with the
+   * lens of a camera.json the user opened, when there is one, else the focal
+   * length too); the result is the take's camera. Resolves with the reprojection error.
+   * @returns {Promise<{rmsPx: number, maxPx: number, corners: number, camera: string}>}
+   */
+  async function calibrate() {
+    const { board, boardLayout } = inputs;
+    const camera = inputs.camera?.fromBoard ? undefined : inputs.camera;
+    if (!board || !boardLayout) throw new Error("open a still of the board and its layout (BOARD.json) first");
+    try {
+      say("finding the board…");
+      const m = await loadBoardModule();
+      const text = (/** @type {NamedFile} */ f) => new TextDecoder().decode(f.bytes);
+      const found = m.calibrate_board(
+        board.name, new Uint8Array(board.bytes), boardLayout.name, text(boardLayout),
+        camera?.name ?? "", camera ? text(camera) : undefined,
+      );
+      const cameraJson = found.camera_json();
+      corners = Array.from(found.corners_px());
+      const outcome = { rmsPx: found.rms_px(), maxPx: found.max_px(), corners: corners.length / 2, camera: cameraJson };
+      found.free();
+      inputs.camera = {
+        name: `camera.json (from ${board.name})`, bytes: new TextEncoder().encode(cameraJson).buffer, fromBoard: true,
+      };
+      showInputs();
+      say(`calibrated from ${board.name}: ${outcome.corners} corners, reprojection error ${outcome.rmsPx.toFixed(2)} px ` +
+        `(rms; largest ${outcome.maxPx.toFixed(2)} px)` + (camera ? `, with the lens of ${camera.name}` : ", focal length from this view"));
+      return outcome;
+    } catch (e) {
+      say(e instanceof Error ? e.message : String(e), true);
+      throw e;
+    }
   }
 
   function drawTop() {
@@ -315,14 +431,18 @@ export async function mountCameraTracking(element, options = {}) {
   });
   trackButton.addEventListener("click", () => void track().catch(() => {}));
   cancelButton.addEventListener("click", () => (cancelled = true));
+  calibrateButton.addEventListener("click", () => void calibrate().catch(() => {}));
+  exportCamera.addEventListener("click", () => inputs.camera && download(new TextDecoder().decode(inputs.camera.bytes), "camera.json"));
   exportRecording.addEventListener("click", () => result && download(result.recording, `${stem()}.tracked.bvh`));
   exportTrack.addEventListener("click", () => result && download(result.csv, `${stem()}.tracked.track.csv`));
 
   const loads = [];
-  for (const [key, kind] of [["video", "video"], ["src", "recording"], ["camera", "camera"], ["background", "background"]]) {
+  for (const [key, kind] of [["video", "video"], ["src", "recording"], ["camera", "camera"], ["background", "background"], ["board", "board"]]) {
     const url = /** @type {any} */ (options)[key];
     if (url) loads.push(openUrl(url, kind).catch((e) => say(e.message, true)));
   }
+  // A board's layout lies beside its still, as for `embusen calibrate`.
+  if (options.board) loads.push(openUrl(options.board.replace(/\.png$/i, ".json"), "boardLayout").catch((e) => say(e.message, true)));
   await Promise.all(loads);
   showInputs();
 
@@ -330,6 +450,7 @@ export async function mountCameraTracking(element, options = {}) {
     element,
     open,
     track,
+    calibrate,
     cancel: () => (cancelled = true),
     get result() { return result; },
     destroy() {

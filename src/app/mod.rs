@@ -5,6 +5,7 @@
 //! import everything below it (`eval`, `track`, `translate`, `synth`, `io`,
 //! `body`, `camera`, `image`, `signal`); only `web` and the CLI import it.
 
+pub mod calibration;
 pub mod clock;
 pub mod plot;
 pub mod session;

@@ -6,13 +6,18 @@
 //! between the page and the core: parsing, kinematics, the method, plot
 //! layout and rendering all happen in Rust. What crosses to the page is
 //! typed ([`api`]). And the **camera tracker** (feature `web-camera`,
-//! `dist/pkg-camera/`): the `CameraJob` a Web Worker runs ([`tracking`]),
-//! fetched only when a video is tracked, so the player's download stays
-//! small. Built only for wasm32; may import everything below it, and
+//! `dist/pkg-camera/`): the `CameraJob` a Web Worker runs and the floor
+//! grid over the video ([`tracking`]), fetched only when a take is opened;
+//! and the **board** module (feature `web-board`, `dist/pkg-board/`): the
+//! ChArUco detector and the calibration from a board still
+//! ([`calibration`]), fetched only when a board is used. So the player's
+//! download stays small. Built only for wasm32; may import everything below it, and
 //! nothing of the core imports it.
 
 #[cfg(feature = "web-player")]
 pub mod api;
+#[cfg(feature = "web-board")]
+pub mod calibration;
 #[cfg(feature = "web-player")]
 mod canvas2d;
 mod panic;

@@ -6,7 +6,9 @@
 
 use wasm_bindgen::prelude::*;
 
+use crate::app::calibration::floor_grid_px;
 use crate::app::tracking::{NamedBytes, TrackingJob, VideoDescription};
+use crate::camera::Camera;
 use crate::io::container::{EncodedVideo, demux, nominal_fps};
 use crate::track::paper::PaperTrackParams;
 use crate::track::tracker::{FusedParams, TrackMethod};
@@ -159,4 +161,23 @@ impl DemuxedVideo {
             })
             .collect()
     }
+}
+
+/// The floor grid as the camera of `camera_json` sees it (lines every
+/// `spacing_cm` within `half_extent_cm` of the origin): `x, y` pixel after
+/// pixel, each line ended by a NaN pair. The error names the camera file.
+#[wasm_bindgen]
+pub fn floor_grid(
+    camera_name: &str,
+    camera_json: &str,
+    spacing_cm: f64,
+    half_extent_cm: f64,
+) -> Result<Vec<f64>, JsError> {
+    let camera = Camera::from_json(camera_json, camera_name).map_err(js_error)?;
+    let mut out = Vec::new();
+    for line in floor_grid_px(&camera, spacing_cm, half_extent_cm) {
+        out.extend(line.iter().flat_map(|p| [p.x, p.y]));
+        out.extend([f64::NAN, f64::NAN]);
+    }
+    Ok(out)
 }

@@ -161,7 +161,53 @@ test("bad input is a message in the page, and what was open stays open", async (
   assert.match(await page.textContent("#camera-panel .camera-inputs"), /walk\.mp4, 640×480/);
   // A file of no kind the panel knows.
   [said] = await open([["notes.txt", "hello"]]);
-  assert.match(said, /notes\.txt: not a video, a BVH, a camera\.json or a PNG still/);
+  assert.match(said, /notes\.txt: not a video, a BVH, a camera\.json, a board's layout or a PNG still/);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test("a camera calibrated from board.png in the page stands where the true one does", async (t) => {
+  if (skipWithoutData(t)) return;
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const fetched = [];
+  page.on("request", (r) => fetched.push(new URL(r.url()).pathname));
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(String(e)));
+  // A take with its camera: the board's detector is not fetched.
+  await page.goto(`${server.url}/?autoplay=0&video=/data/optical/walk.mp4&src=/data/optical/walk.suit.bvh` +
+    "&camera=/data/optical/walk.camera.json");
+  await page.waitForFunction(() => document.querySelector("#camera-panel")?.embusenCamera, null, { timeout: 60000 });
+  await page.waitForLoadState("networkidle");
+  assert.ok(!fetched.some((p) => p.includes("pkg-board")), `the detector was fetched without a board: ${fetched.join(" ")}`);
+  for (const [scene, withLens] of [["walk", true], ["slash", false]]) {
+    const truth = JSON.parse(readFileSync(join(DATA, `optical/${scene}.camera.json`), "utf8"));
+    const found = await page.evaluate(async ([scene, withLens]) => {
+      const panel = document.querySelector("#camera-panel").embusenCamera;
+      const get = async (path) => new File([await (await fetch(path)).blob()], path.split("/").pop());
+      const files = [await get(`/data/optical/${scene}.board.png`), await get(`/data/optical/${scene}.board.json`)];
+      if (withLens) files.push(await get(`/data/optical/${scene}.camera.json`));
+      await panel.open(files);
+      const outcome = await panel.calibrate();
+      return { ...outcome, camera: JSON.parse(outcome.camera) };
+    }, [scene, withLens]);
+    const centre = found.camera.camera_center_world_cm;
+    const off = Math.hypot(...centre.map((c, i) => c - truth.camera_center_world_cm[i]));
+    const focal = found.camera.K[0][0] / truth.K[0][0] - 1;
+    console.log(`${scene}.board.png in the page (${withLens ? "the true lens" : "no lens"}): ${found.corners} corners, ` +
+      `reprojection ${found.rmsPx.toFixed(2)} px rms, camera centre ${off.toFixed(2)} cm off, focal length ${(100 * focal).toFixed(2)} %`);
+    if (withLens) assert.ok(off < 1, `${scene}: the camera centre is ${off.toFixed(2)} cm from the true one`);
+    else assert.ok(Math.abs(focal) < 0.03, `${scene}: the focal length is ${(100 * focal).toFixed(1)} % off`);
+  }
+  assert.ok(fetched.some((p) => p.includes("pkg-board")), "the detector was never fetched");
+  // A still without a board says so, and the calibration had stays.
+  const refused = await page.evaluate(async () => {
+    const panel = document.querySelector("#camera-panel").embusenCamera;
+    const still = new File([await (await fetch("/data/optical/walk.background.png")).blob()], "empty.board.png");
+    await panel.open([still]);
+    return panel.calibrate().then(() => "calibrated", (e) => e.message);
+  });
+  assert.match(refused, /empty\.board\.png/, refused);
+  assert.match(await page.textContent("#camera-panel .camera-inputs"), /camera\.json \(from slash\.board\.png\)/);
   assert.deepEqual(errors, []);
   await page.close();
 });

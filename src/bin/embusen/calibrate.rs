@@ -297,21 +297,9 @@ fn file_name(path: &Path) -> String {
 /// `cvtColor`; alpha ignored, 16-bit samples cut to 8).
 // Temporary: the image readers of `io` (branch image-pipeline) replace it.
 fn read_grey_png(path: &Path, name: &str) -> Result<(Vec<u8>, ImageSize), Error> {
-    let bad = |e: &dyn std::fmt::Display| Error::whole(name, format!("cannot read as PNG: {e}"));
-    let file = std::fs::File::open(path).map_err(|e| bad(&e))?;
-    let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
-    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
-    let mut reader = decoder.read_info().map_err(|e| bad(&e))?;
-    let mut buffer = vec![0; reader.output_buffer_size().ok_or_else(|| bad(&"the image is too large"))?];
-    let info = reader.next_frame(&mut buffer).map_err(|e| bad(&e))?;
-    let channels = info.color_type.samples();
-    let pixels = (info.width as usize) * (info.height as usize);
-    let grey = buffer[..pixels * channels]
-        .chunks_exact(channels)
-        .map(|p| match channels {
-            1 | 2 => p[0],
-            _ => ((299 * p[0] as u32 + 587 * p[1] as u32 + 114 * p[2] as u32 + 500) / 1000) as u8,
-        })
-        .collect();
-    Ok((grey, ImageSize { width_px: info.width, height_px: info.height }))
+    // Grey as every still and frame is (io::image_file), so the app, which
+    // decodes the same still, finds the same corners.
+    let bytes = std::fs::read(path).map_err(|e| Error::whole(name, format!("cannot read: {e}")))?;
+    let grey = embusen::io::image_file::png_to_grey(&bytes, name)?;
+    Ok((grey.pixels, ImageSize { width_px: grey.width_px, height_px: grey.height_px }))
 }

@@ -1,0 +1,100 @@
+//! The camera from a still of a ChArUco board on the floor, as the app and
+//! `embusen calibrate` both make it: the still decoded to grey (as every
+//! still is, `io::image_file`), the board found (`camera::charuco`), the pose
+//! (and without a lens given, the focal length) fitted (`camera::calibrate`);
+//! and the floor grid drawn over a picture to check a camera by eye.
+
+use glam::{DVec2, DVec3};
+
+use crate::camera::Camera;
+#[cfg(feature = "board")]
+use crate::{
+    app::tracking::NamedBytes,
+    camera::ImageSize,
+    camera::board::Board,
+    camera::calibrate::{BoardView, Calibration, LensFit, calibrate_one_view, calibrate_pose},
+    camera::charuco::{Detection, detect},
+    error::Error,
+    io::image_file::png_to_grey,
+};
+
+/// A still's calibration, with what was found in it.
+#[cfg(feature = "board")]
+#[derive(Clone, Debug)]
+pub struct StillCalibration {
+    pub calibration: Calibration,
+    pub detection: Detection,
+    pub size: ImageSize,
+}
+
+/// The camera that took `still` (a PNG) of `board` on the floor: its pose
+/// with `lens`'s intrinsics when given (an error when the still is of
+/// another size), else its focal length too, from this one view, the
+/// principal point assumed at the image's centre. An error naming the
+/// still when the board is not found.
+#[cfg(feature = "board")]
+pub fn calibrate_from_still(
+    still: NamedBytes,
+    board: &Board,
+    lens: Option<&Camera>,
+) -> Result<StillCalibration, Error> {
+    let grey = png_to_grey(still.bytes, still.name)?;
+    let size = ImageSize { width_px: grey.width_px, height_px: grey.height_px };
+    let detection = detect(board, &grey.pixels, size, still.name)?;
+    let view = BoardView { file: still.name, board, corners: &detection.corners };
+    let calibration = match lens {
+        Some(lens) => {
+            if lens.image_size != size {
+                return Err(Error::whole(
+                    still.name,
+                    format!(
+                        "the still is {}×{} px, the intrinsics are for {}×{}",
+                        size.width_px, size.height_px, lens.image_size.width_px, lens.image_size.height_px
+                    ),
+                ));
+            }
+            calibrate_pose(&view, lens)?
+        }
+        None => calibrate_one_view(&view, size, LensFit::default())?,
+    };
+    Ok(StillCalibration { calibration, detection, size })
+}
+
+/// The floor's grid lines as `camera` sees them: lines every `spacing_cm`
+/// along x and z within `half_extent_cm` of the world's origin, each as
+/// pixels sampled every `spacing_cm / 8` (through the lens: straight lines
+/// bend), a line broken where it leaves the picture or goes behind the
+/// camera. Each polyline is a list of pixels.
+pub fn floor_grid_px(camera: &Camera, spacing_cm: f64, half_extent_cm: f64) -> Vec<Vec<DVec2>> {
+    let mut lines = Vec::new();
+    if !(spacing_cm > 0.0 && half_extent_cm >= 0.0) {
+        return lines;
+    }
+    let n = (half_extent_cm / spacing_cm).floor() as i32;
+    let (w, h) = (camera.image_size.width_px as f64, camera.image_size.height_px as f64);
+    let step = spacing_cm / 8.0;
+    let samples = (2.0 * half_extent_cm / step).ceil() as i32;
+    for k in -n..=n {
+        let at = k as f64 * spacing_cm;
+        for along_x in [true, false] {
+            let mut line = Vec::new();
+            for s in 0..=samples {
+                let t = -half_extent_cm + s as f64 * step;
+                let point = if along_x { DVec3::new(t, 0.0, at) } else { DVec3::new(at, 0.0, t) };
+                match camera.point_in_image(point) {
+                    Some(p) if p.x >= -0.5 && p.y >= -0.5 && p.x <= w - 0.5 && p.y <= h - 0.5 => line.push(p),
+                    _ => {
+                        if line.len() > 1 {
+                            lines.push(std::mem::take(&mut line));
+                        }
+                        line.clear();
+                    }
+                }
+            }
+            if line.len() > 1 {
+                lines.push(line);
+            }
+        }
+    }
+    lines
+}
