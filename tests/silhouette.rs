@@ -416,6 +416,12 @@ fn the_true_pose_covers_the_actor_in_the_shared_scenes() {
     );
 }
 
+/// A VGA camera of 500 px focal length 4 m in front of the world's origin,
+/// at 1 m up, looking at the point 1 m above it.
+fn four_metres_away() -> Camera {
+    look_at(DVec3::new(0.0, 100.0, -400.0), DVec3::new(0.0, 100.0, 0.0), VGA, 500.0, Distortion::default())
+}
+
 /// The fused energy's band term (`FrameTerms::fit_in_band`): a body the
 /// actor's size leaves its band on the empty room; one too small leaves it
 /// partly on the actor, about by how much it falls short in pixels.
@@ -424,13 +430,7 @@ fn the_band_term_sees_a_body_too_small_for_the_actor() {
     use embusen::image::Mask;
     use embusen::image::distance::distance_to;
     use embusen::track::energy::FrameTerms;
-    let camera = look_at(
-        DVec3::new(0.0, 100.0, -400.0),
-        DVec3::new(0.0, 100.0, 0.0),
-        VGA,
-        500.0,
-        Distortion::default(),
-    );
+    let camera = four_metres_away();
     let ball = |radius_cm: f64| PosedBody {
         spheres: vec![Sphere { centre_cm: DVec3::new(0.0, 100.0, 0.0), radius_cm }],
         cones: Vec::new(),
@@ -471,13 +471,7 @@ fn fits_from_truncated_distances_are_the_fits_from_whole_ones() {
     use embusen::image::Mask;
     use embusen::image::distance::{distance_to, distance_to_truncated};
     use embusen::track::energy::FrameTerms;
-    let camera = look_at(
-        DVec3::new(0.0, 100.0, -400.0),
-        DVec3::new(0.0, 100.0, 0.0),
-        VGA,
-        500.0,
-        Distortion::default(),
-    );
+    let camera = four_metres_away();
     let ball = |centre_cm: DVec3, radius_cm: f64| PosedBody {
         spheres: vec![Sphere { centre_cm, radius_cm }],
         cones: Vec::new(),

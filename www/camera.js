@@ -51,26 +51,27 @@ export function kindOf(file) {
   return null;
 }
 
-/** @type {Promise<typeof import("./pkg-camera/embusen.js")> | null} */
-let cameraModule = null;
-/** The camera module on this thread (the floor grid), loaded once, when a take has a camera. */
-function loadCameraModule() {
-  cameraModule ??= import("./pkg-camera/embusen.js").then(async (m) => {
-    await m.default({ module_or_path: new URL("./pkg-camera/embusen_bg.wasm", import.meta.url) });
-    return m;
-  });
-  return cameraModule;
+/**
+ * A wasm module of the app (`pkg-camera/`, `pkg-board/`), fetched and
+ * instantiated on this thread once, the first time it is asked for.
+ * @template T
+ * @param {() => Promise<T & {default: (options: {module_or_path: URL}) => Promise<unknown>}>} load
+ * @param {string} dir
+ * @returns {() => Promise<T>}
+ */
+function lazyModule(load, dir) {
+  /** @type {Promise<T> | null} */
+  let loaded = null;
+  return () =>
+    (loaded ??= load().then(async (m) => {
+      await m.default({ module_or_path: new URL(`./${dir}/embusen_bg.wasm`, import.meta.url) });
+      return m;
+    }));
 }
-/** @type {Promise<typeof import("./pkg-board/embusen.js")> | null} */
-let boardModule = null;
-/** The board module (the ChArUco detector), loaded once, when a board is used. */
-function loadBoardModule() {
-  boardModule ??= import("./pkg-board/embusen.js").then(async (m) => {
-    await m.default({ module_or_path: new URL("./pkg-board/embusen_bg.wasm", import.meta.url) });
-    return m;
-  });
-  return boardModule;
-}
+/** The camera module (the floor grid), when a take has a camera. */
+const loadCameraModule = lazyModule(() => import("./pkg-camera/embusen.js"), "pkg-camera");
+/** The board module (the ChArUco detector), only when a board is used. */
+const loadBoardModule = lazyModule(() => import("./pkg-board/embusen.js"), "pkg-board");
 
 const PANEL = `
   <div class="camera-controls">
