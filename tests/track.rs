@@ -217,6 +217,11 @@ fn app_tracks(video: &Path, bvh: &Path, camera: &Path, background: &Path) -> (St
         job.push_luma(&planes[..w * h], w, false).unwrap();
     }
     let (export, _) = job.finish().unwrap();
+    // The outlines the page draws over the video: one per frame, each the
+    // body's contour (every frame of walk has a pose).
+    let outlines = job.outlines_px();
+    assert_eq!(outlines.len(), info.frame_count);
+    assert!(outlines.iter().all(|o| o.len() > 50), "every frame has a pose and an outline");
     (export.recording_text, export.track_csv)
 }
 

@@ -116,6 +116,8 @@ export async function mountCameraTracking(element, options = {}) {
   const inputs = {};
   /** The board's corners found in its still (pixels), drawn over the picture. @type {number[]} */
   let corners = [];
+  /** Per video frame, the body's outline where the track puts it (x, y pixel after pixel). @type {Uint32Array[]} */
+  let outlines = [];
   /** @type {TrackResult | null} */
   let result = null;
   /** @type {Worker | null} */
@@ -160,6 +162,15 @@ export async function mountCameraTracking(element, options = {}) {
         const frameCount = Math.round(video.duration * fps);
         if (inputs.video) closeVideo(inputs.video.element);
         inputs.video = { file: blob, name, element: video, fps, frameCount };
+        outlines = [];
+        video.controls = true;
+        // The overlay follows the frame shown, played or sought.
+        const follow = () => {
+          void drawOverlay();
+          if (!video.paused) video.requestVideoFrameCallback(follow);
+        };
+        video.addEventListener("seeked", follow);
+        video.addEventListener("play", follow);
         $(".camera-video").replaceChildren(video, overlay);
       } catch (e) {
         closeVideo(video);
@@ -236,6 +247,15 @@ export async function mountCameraTracking(element, options = {}) {
     ctx.stroke();
     ctx.fillStyle = "#4ade80";
     for (let i = 0; i + 1 < corners.length; i += 2) ctx.fillRect(corners[i] - 1.5 + 0.5, corners[i + 1] - 1.5 + 0.5, 3, 3);
+    const outline = outlines[shownFrame()];
+    ctx.fillStyle = "#38bdf8";
+    for (let i = 0; outline && i + 1 < outline.length; i += 2) ctx.fillRect(outline[i], outline[i + 1], 1, 1);
+  }
+
+  /** The video frame the panel's video shows (frame i spans i/fps to (i+1)/fps). */
+  function shownFrame() {
+    const v = inputs.video;
+    return v ? Math.min(v.frameCount - 1, Math.floor(v.element.currentTime * v.fps + 1e-6)) : 0;
   }
 
   /**
@@ -392,6 +412,13 @@ export async function mountCameraTracking(element, options = {}) {
         }),
       ]));
       const seconds = (performance.now() - started) / 1000;
+      outlines = [];
+      for (let at = 0; at < done.outlines.length; ) {
+        const n = done.outlines[at];
+        outlines.push(done.outlines.subarray(at + 1, at + 1 + 2 * n));
+        at += 1 + 2 * n;
+      }
+      void drawOverlay();
       result = {
         recording: done.recording, csv: done.csv, warnings: done.warnings, frames: done.frames,
         framesPerSecond: done.frames / seconds, readMsPerFrame: opened.decodes ? done.decodeMsPerFrame : readMs / done.frames,
@@ -452,6 +479,8 @@ export async function mountCameraTracking(element, options = {}) {
     open,
     track,
     calibrate,
+    /** The body's outline over video frame `i` where the last track puts it (x, y pixel after pixel). */
+    outlineAt: (/** @type {number} */ i) => Array.from(outlines[i] ?? []),
     cancel: () => (cancelled = true),
     get result() { return result; },
     destroy() {

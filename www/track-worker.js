@@ -11,7 +11,9 @@
 //   {type: "finish"}                                          (likewise)
 // Messages out: {type: "opened", decodes, why, fps, frameCount, warnings},
 // {type: "progress", frame, x, z, confidence},
-// {type: "done", recording, csv, warnings, frames, msPerFrame, decodeMsPerFrame}, {type: "error", message}.
+// {type: "done", recording, csv, warnings, frames, msPerFrame, decodeMsPerFrame,
+//  outlines: Uint32Array (per frame n, then n pixels x, y: the body where the track puts it)},
+// {type: "error", message}.
 // After an error the worker takes nothing more: the page starts a new one.
 
 import init, { CameraJob, demux_video } from "./pkg-camera/embusen.js";
@@ -114,10 +116,11 @@ function finish() {
   const started = performance.now();
   job.finish();
   busyMs += performance.now() - started;
-  post({
+  const outlines = job.outlines_px();
+  /** @type {any} */ (self).postMessage({
     type: "done", recording: job.recording_text(), csv: job.track_csv(), warnings: job.warnings(), frames,
-    msPerFrame: busyMs / Math.max(1, frames), decodeMsPerFrame: decodeMs / Math.max(1, frames),
-  });
+    msPerFrame: busyMs / Math.max(1, frames), decodeMsPerFrame: decodeMs / Math.max(1, frames), outlines,
+  }, [outlines.buffer]);
   job.free();
   job = null;
 }

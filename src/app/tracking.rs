@@ -6,16 +6,17 @@
 //! browser-free so native tests drive it with ffmpeg's frames; `web` runs
 //! it in a Web Worker.
 
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 
 use crate::camera::Camera;
 use crate::error::Error;
 use crate::image::GreyImage;
 use crate::io::image_file::png_to_grey;
 use crate::io::recording::Recording;
+use crate::track::silhouette::SilhouetteRenderer;
 use crate::track::suit_motion::VideoTiming;
 use crate::track::take::{Take, TakeExport};
-use crate::track::tracker::{TrackMethod, Tracker};
+use crate::track::tracker::{Track, TrackMethod, Tracker};
 
 /// The video as the page's decoder describes it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -51,6 +52,8 @@ pub struct TrackingJob {
     take: Take,
     video_name: String,
     tracker: Option<Tracker>,
+    /// The finished track, for the outlines.
+    track: Option<Track>,
 }
 
 impl TrackingJob {
@@ -84,7 +87,7 @@ impl TrackingJob {
         let timing = VideoTiming { fps: video.fps, frame_count: video.frame_count, offset_s };
         let take = Take::new(recording, camera, background, timing, method, Vec::new())?;
         let tracker = Tracker::new(take.setup.clone())?;
-        Ok(TrackingJob { take, video_name: video_name.to_string(), tracker: Some(tracker) })
+        Ok(TrackingJob { take, video_name: video_name.to_string(), tracker: Some(tracker), track: None })
     }
 
     /// What the user should know before the frames come (frames without a
@@ -135,6 +138,29 @@ impl TrackingJob {
         };
         let track = tracker.finish();
         let export = self.take.export(&track, &self.take.setup.timing);
-        Ok((export, track.warnings))
+        let warnings = track.warnings.clone();
+        self.track = Some(track);
+        Ok((export, warnings))
+    }
+
+    /// The outer contour of the body (the tracker's model) where the
+    /// finished track puts it in each video frame, as the camera sees it:
+    /// pixels `[x, y]`, none in a frame without a pose or before `finish`.
+    /// What the page draws over the video to show how the track fits.
+    pub fn outlines_px(&self) -> Vec<Vec<[u32; 2]>> {
+        let Some(track) = &self.track else { return Vec::new() };
+        let setup = &self.take.setup;
+        let mut renderer = SilhouetteRenderer::new(&setup.camera);
+        track
+            .frames
+            .iter()
+            .enumerate()
+            .map(|(i, frame)| {
+                let instant = setup.suit.instant(setup.timing.bvh_time_s(i));
+                let Some(body_cm) = setup.suit.body_at(instant) else { return Vec::new() };
+                let Ok(body) = setup.shape.pose(&body_cm, DVec3::ZERO) else { return Vec::new() };
+                renderer.render(&body, DVec3::new(frame.floor_cm.x, 0.0, frame.floor_cm.y)).contour()
+            })
+            .collect()
     }
 }

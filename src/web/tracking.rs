@@ -95,6 +95,17 @@ impl CameraJob {
         Ok(())
     }
 
+    /// The body's outline over each video frame where the finished track
+    /// puts it: per frame its pixel count `n`, then `n` pairs `x, y`.
+    pub fn outlines_px(&self) -> Vec<u32> {
+        let mut out = Vec::new();
+        for outline in self.job.outlines_px() {
+            out.push(outline.len() as u32);
+            out.extend(outline.iter().flatten());
+        }
+        out
+    }
+
     /// The corrected recording (after `finish`).
     pub fn recording_text(&self) -> String {
         self.recording_text.clone()

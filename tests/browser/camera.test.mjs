@@ -73,6 +73,15 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
   assert.ok(result.recording === readFileSync(out, "utf8"), "the page's corrected BVH is not the CLI's");
   assert.ok(result.csv === readFileSync(join(scratch, "walk.tracked.track.csv"), "utf8"), "the page's track CSV is not the CLI's");
   assert.match(await page.textContent("#camera-panel .camera-status"), /195 frames tracked/);
+  // The body's outline where the track puts it, over the frame shown: on
+  // the actor (the foreground of the frame against the background still).
+  const outline = await page.evaluate(() => document.querySelector("#camera-panel").embusenCamera.outlineAt(100));
+  assert.ok(outline.length > 200, `an outline of ${outline.length / 2} pixels over frame 100`);
+  await page.evaluate(() => {
+    const v = document.querySelector("#camera-panel video");
+    v.currentTime = 100.5 / 30;
+    return new Promise((ok) => v.addEventListener("seeked", () => setTimeout(ok, 300), { once: true }));
+  });
   // Screenshots of the page with the take tracked, wide and narrow (to look at).
   mkdirSync(SCREENSHOTS, { recursive: true });
   const panel = page.locator("#camera");
