@@ -7,16 +7,22 @@
 use glam::{DVec2, DVec3};
 
 use crate::camera::Camera;
+// The calibration needs the board's detector (feature `board`); the grid
+// does not.
 #[cfg(feature = "board")]
-use crate::{
-    app::tracking::NamedBytes,
-    camera::ImageSize,
-    camera::board::Board,
-    camera::calibrate::{BoardView, Calibration, LensFit, calibrate_one_view, calibrate_pose},
-    camera::charuco::{Detection, detect},
-    error::Error,
-    io::image_file::png_to_grey,
-};
+use crate::app::tracking::NamedBytes;
+#[cfg(feature = "board")]
+use crate::camera::ImageSize;
+#[cfg(feature = "board")]
+use crate::camera::board::Board;
+#[cfg(feature = "board")]
+use crate::camera::calibrate::{BoardView, Calibration, LensFit, calibrate_one_view, calibrate_pose};
+#[cfg(feature = "board")]
+use crate::camera::charuco::{Detection, detect};
+#[cfg(feature = "board")]
+use crate::error::Error;
+#[cfg(feature = "board")]
+use crate::io::image_file::png_to_grey;
 
 /// A still's calibration, with what was found in it.
 #[cfg(feature = "board")]
