@@ -23,7 +23,9 @@ import { closeVideo, frameAt, measureFps, openVideo } from "./video-frames.js";
  * @property {string} [camera] the camera.json's URL
  * @property {string} [background] the background still's URL
  * @property {string} [board] a still of the ChArUco board on the floor (its layout BOARD.json beside it)
+ * @property {string} [truth] the true hips per video frame (CSV), to plot the track's error against
  * @property {"fused" | "paper"} [method]
+ * @property {number} [offsetS] the time offset between video and BVH (s), as `embusen track --offset-s`
  */
 
 /**
@@ -37,6 +39,7 @@ import { closeVideo, frameAt, measureFps, openVideo } from "./video-frames.js";
  * @property {number} trackMsPerFrame the worker's tracking per frame
  * @property {boolean} decodedInWorker whether the worker decoded the frames itself (WebCodecs)
  * @property {string | null} whyNotDecoded why not, when it did not
+ * @property {{meanCm: number, p90Cm: number, maxCm: number} | null} truthErrors against the truth, when given
  */
 
 /** @typedef {{name: string, bytes: ArrayBuffer}} NamedFile */
@@ -45,6 +48,7 @@ import { closeVideo, frameAt, measureFps, openVideo } from "./video-frames.js";
 export function kindOf(file) {
   const name = file.name.toLowerCase();
   if (name.endsWith(".bvh")) return "recording";
+  if (name.endsWith(".csv")) return "truth";
   if (name.endsWith(".json")) return "json";
   if (name.endsWith(".png")) return name.includes("board") ? "board" : "background";
   if (/\.(mp4|m4v|webm|mov|mkv|ogv)$/.test(name) || file.type.startsWith("video/")) return "video";
@@ -77,6 +81,8 @@ const PANEL = `
   <div class="camera-controls">
     <label class="file">Open video + BVH + camera.json + background… <input type="file" multiple accept="video/*,.bvh,.json,.png"></label>
     <label>method <select data-setting="method"><option value="fused">fused</option><option value="paper">paper</option></select></label>
+    <label title="added to a video frame's time to read the BVH (embusen track --offset-s): positive when the BVH started first">offset
+      <input data-setting="offset" type="number" step="0.01" value="0" style="width: 5em"> s</label>
     <button data-action="track">Track</button>
     <button data-action="cancel" disabled>Cancel</button>
     <progress value="0" max="1"></progress>
@@ -87,7 +93,8 @@ const PANEL = `
   </div>
   <ul class="camera-inputs"></ul>
   <p class="camera-status" role="status"></p>
-  <div class="camera-views"><div class="camera-video"><canvas class="camera-overlay"></canvas></div><canvas class="camera-top" width="320" height="240"></canvas></div>`;
+  <div class="camera-views"><div class="camera-video"><canvas class="camera-overlay"></canvas></div><canvas class="camera-top" width="320" height="240"></canvas></div>
+  <canvas class="camera-plot" width="960" height="180" title="click to see that frame"></canvas>`;
 
 /**
  * Mounts the camera tracking panel in `element`.
@@ -105,14 +112,19 @@ export async function mountCameraTracking(element, options = {}) {
   const exportRecording = /** @type {HTMLButtonElement} */ ($('[data-action="export-recording"]'));
   const exportTrack = /** @type {HTMLButtonElement} */ ($('[data-action="export-track"]'));
   const methodSelect = /** @type {HTMLSelectElement} */ ($('[data-setting="method"]'));
+  const offsetInput = /** @type {HTMLInputElement} */ ($('[data-setting="offset"]'));
   const top = /** @type {HTMLCanvasElement} */ ($(".camera-top"));
+  const plot = /** @type {HTMLCanvasElement} */ ($(".camera-plot"));
+  /** The track's error against the truth per frame (cm), when a truth was given. @type {Float64Array | null} */
+  let errors = null;
   methodSelect.value = options.method ?? "fused";
+  offsetInput.value = String(options.offsetS ?? 0);
 
   const calibrateButton = /** @type {HTMLButtonElement} */ ($('[data-action="calibrate"]'));
   const exportCamera = /** @type {HTMLButtonElement} */ ($('[data-action="export-camera"]'));
   const overlay = /** @type {HTMLCanvasElement} */ ($(".camera-overlay"));
   /** (`camera.fromBoard`: calibrated here, so not a lens to calibrate another board with.) */
-  /** @type {{recording?: NamedFile, camera?: NamedFile & {fromBoard?: boolean}, background?: NamedFile, board?: NamedFile, boardLayout?: NamedFile, video?: {file: Blob, name: string, element: HTMLVideoElement, fps: number, frameCount: number}}} */
+  /** @type {{truth?: NamedFile, recording?: NamedFile, camera?: NamedFile & {fromBoard?: boolean}, background?: NamedFile, board?: NamedFile, boardLayout?: NamedFile, video?: {file: Blob, name: string, element: HTMLVideoElement, fps: number, frameCount: number}}} */
   const inputs = {};
   /** The board's corners found in its still (pixels), drawn over the picture. @type {number[]} */
   let corners = [];
@@ -140,6 +152,7 @@ export async function mountCameraTracking(element, options = {}) {
       line("suit recording (BVH)", inputs.recording?.name),
       line("camera (camera.json)", inputs.camera?.name),
       line("background still (PNG)", inputs.background?.name),
+      ...(inputs.truth ? [line("true hips (CSV)", inputs.truth.name)] : []),
       ...(inputs.board || inputs.boardLayout
         ? [line("board still", inputs.board?.name), line("board layout (BOARD.json)", inputs.boardLayout?.name)]
         : []),
@@ -167,6 +180,7 @@ export async function mountCameraTracking(element, options = {}) {
         // The overlay follows the frame shown, played or sought.
         const follow = () => {
           void drawOverlay();
+          drawPlot();
           if (!video.paused) video.requestVideoFrameCallback(follow);
         };
         video.addEventListener("seeked", follow);
@@ -187,7 +201,7 @@ export async function mountCameraTracking(element, options = {}) {
       }
       if (parsed && typeof parsed === "object" && "squares_x" in parsed) inputs.boardLayout = { name, bytes };
       else inputs.camera = { name, bytes };
-    } else if (kind === "recording" || kind === "camera" || kind === "background" || kind === "board" || kind === "boardLayout") {
+    } else if (kind === "recording" || kind === "camera" || kind === "background" || kind === "board" || kind === "boardLayout" || kind === "truth") {
       inputs[kind] = { name, bytes: await blob.arrayBuffer() };
     } else {
       throw new Error(`${name}: not a video, a BVH, a camera.json, a board's layout or a PNG still`);
@@ -321,6 +335,49 @@ export async function mountCameraTracking(element, options = {}) {
   }
 
   /**
+   * The plots under the views: the camera's confidence per frame (0 to 1)
+   * and, with a truth, the track's error (cm); a cursor at the frame shown.
+   */
+  function drawPlot() {
+    const ctx = plot.getContext("2d");
+    if (!ctx) return;
+    const [w, h] = [plot.width, plot.height];
+    ctx.fillStyle = "#1e2126";
+    ctx.fillRect(0, 0, w, h);
+    const n = inputs.video?.frameCount ?? path.length;
+    if (n === 0 || path.length === 0) return;
+    const rows = errors ? 2 : 1;
+    const rowH = (h - 10) / rows;
+    const x = (/** @type {number} */ i) => 40 + (i / Math.max(1, n - 1)) * (w - 50);
+    /** @param {ArrayLike<number>} values @param {number} row @param {number} top @param {string} colour @param {string} label */
+    const series = (values, row, top, colour, label) => {
+      const y0 = 5 + row * rowH;
+      const y = (/** @type {number} */ v) => y0 + rowH - 14 - (Math.min(v, top) / top) * (rowH - 20);
+      ctx.strokeStyle = "#3a3f47";
+      ctx.strokeRect(40, y0 + 4, w - 50, rowH - 16);
+      ctx.strokeStyle = colour;
+      ctx.beginPath();
+      for (let i = 0; i < values.length; i++) (i === 0 ? ctx.moveTo(x(i), y(values[i])) : ctx.lineTo(x(i), y(values[i])));
+      ctx.stroke();
+      ctx.fillStyle = "#9aa0aa";
+      ctx.fillText(label, 44, y0 + 16);
+      ctx.fillText(String(top), 4, y0 + 12);
+      ctx.fillText("0", 4, y0 + rowH - 12);
+    };
+    series(path.map((p) => p[2]), 0, 1, "#4ade80", "the camera's confidence per frame");
+    if (errors) {
+      const top = Math.max(20, Math.ceil(Math.max(...errors) / 10) * 10);
+      series(errors, 1, top, "#f87171", `error against ${inputs.truth?.name ?? "the truth"} (cm)`);
+    }
+    ctx.strokeStyle = "#ffc828";
+    const cx = x(shownFrame());
+    ctx.beginPath();
+    ctx.moveTo(cx, 5);
+    ctx.lineTo(cx, h - 5);
+    ctx.stroke();
+  }
+
+  /**
    * Tracks the open take; resolves with the result, rejects with the message
    * the page shows (the inputs are kept either way).
    * @returns {Promise<TrackResult>}
@@ -330,6 +387,7 @@ export async function mountCameraTracking(element, options = {}) {
     if (!video || !recording || !camera || !background) throw new Error("open a video, its BVH, a camera.json and a background still first");
     cancelled = false;
     path = [];
+    errors = null;
     result = null;
     exportRecording.disabled = exportTrack.disabled = true;
     trackButton.disabled = true;
@@ -357,6 +415,7 @@ export async function mountCameraTracking(element, options = {}) {
           progress.value = (m.frame + 1) / frameCount;
           if (m.frame % 10 === 0) {
             drawTop();
+            drawPlot();
             say(`tracking: frame ${m.frame + 1} of ${frameCount}`);
           }
         } else waiting.get(m.type)?.(m);
@@ -377,7 +436,8 @@ export async function mountCameraTracking(element, options = {}) {
           name: video.name, width: video.element.videoWidth, height: video.element.videoHeight, fps: video.fps,
           frameCount: video.frameCount, bytes: videoBytes,
         },
-        method: methodSelect.value, offsetS: 0,
+        method: methodSelect.value, offsetS: offsetInput.value.trim() === "" ? 0 : Number(offsetInput.value),
+        truth: inputs.truth ? copy(inputs.truth) : undefined,
       }, [videoBytes]);
       const opened = /** @type {any} */ (await reply("opened"));
       frameCount = opened.frameCount;
@@ -419,14 +479,20 @@ export async function mountCameraTracking(element, options = {}) {
         at += 1 + 2 * n;
       }
       void drawOverlay();
+      errors = done.errors ? done.errors.subarray(3) : null;
+      drawPlot();
       result = {
         recording: done.recording, csv: done.csv, warnings: done.warnings, frames: done.frames,
         framesPerSecond: done.frames / seconds, readMsPerFrame: opened.decodes ? done.decodeMsPerFrame : readMs / done.frames,
         trackMsPerFrame: done.msPerFrame, decodedInWorker: opened.decodes, whyNotDecoded: opened.why ?? null,
+        truthErrors: done.errors ? { meanCm: done.errors[0], p90Cm: done.errors[1], maxCm: done.errors[2] } : null,
       };
       drawTop();
+      const truthSaid = result.truthErrors
+        ? `; against ${inputs.truth?.name}: mean ${result.truthErrors.meanCm.toFixed(1)} cm, p90 ${result.truthErrors.p90Cm.toFixed(1)}, max ${result.truthErrors.maxCm.toFixed(1)}`
+        : done.truthProblem ? `; ${done.truthProblem}` : "";
       say(`${methodSelect.value}: ${done.frames} frames tracked, ${result.framesPerSecond.toFixed(1)} frames per second` +
-        (done.warnings.length > 0 ? `; ${done.warnings.join("; ")}` : ""));
+        truthSaid + (done.warnings.length > 0 ? `; ${done.warnings.join("; ")}` : ""));
       exportRecording.disabled = exportTrack.disabled = false;
       return result;
     } catch (e) {
@@ -460,12 +526,20 @@ export async function mountCameraTracking(element, options = {}) {
   trackButton.addEventListener("click", () => void track().catch(() => {}));
   cancelButton.addEventListener("click", () => (cancelled = true));
   calibrateButton.addEventListener("click", () => void calibrate().catch(() => {}));
+  plot.addEventListener("click", (e) => {
+    const v = inputs.video;
+    if (!v) return;
+    const rect = plot.getBoundingClientRect();
+    const at = ((e.clientX - rect.left) * (plot.width / rect.width) - 40) / (plot.width - 50);
+    const frame = Math.round(Math.min(1, Math.max(0, at)) * (v.frameCount - 1));
+    v.element.currentTime = (frame + 0.5) / v.fps;
+  });
   exportCamera.addEventListener("click", () => inputs.camera && download(new TextDecoder().decode(inputs.camera.bytes), "camera.json"));
   exportRecording.addEventListener("click", () => result && download(result.recording, `${stem()}.tracked.bvh`));
   exportTrack.addEventListener("click", () => result && download(result.csv, `${stem()}.tracked.track.csv`));
 
   const loads = [];
-  for (const [key, kind] of [["video", "video"], ["src", "recording"], ["camera", "camera"], ["background", "background"], ["board", "board"]]) {
+  for (const [key, kind] of [["video", "video"], ["src", "recording"], ["camera", "camera"], ["background", "background"], ["board", "board"], ["truth", "truth"]]) {
     const url = /** @type {any} */ (options)[key];
     if (url) loads.push(openUrl(url, kind).catch((e) => say(e.message, true)));
   }

@@ -6,13 +6,14 @@
 // once and in order; else the page sends them, read a seek each.
 // Messages in:
 //   {type: "open", recording, camera, background: {name, bytes},
-//    video: {name, width, height, fps, frameCount, bytes}, method, offsetS}
+//    video: {name, width, height, fps, frameCount, bytes}, method, offsetS, truth?: {name, bytes}}
 //   {type: "frame", luma: ArrayBuffer, stride, fullRange}     (only when it does not decode)
 //   {type: "finish"}                                          (likewise)
 // Messages out: {type: "opened", decodes, why, fps, frameCount, warnings},
 // {type: "progress", frame, x, z, confidence},
 // {type: "done", recording, csv, warnings, frames, msPerFrame, decodeMsPerFrame,
-//  outlines: Uint32Array (per frame n, then n pixels x, y: the body where the track puts it)},
+//  outlines: Uint32Array (per frame n, then n pixels x, y: the body where the track puts it),
+//  errors: Float64Array | null (with a truth: mean, p90, max, then per frame, cm), truthProblem},
 // {type: "error", message}.
 // After an error the worker takes nothing more: the page starts a new one.
 
@@ -24,6 +25,8 @@ let job = null;
 let failed = false;
 let busyMs = 0;
 let decodeMs = 0;
+/** The true hips per video frame (a CSV), when the page has them. @type {{name: string, bytes: ArrayBuffer} | null} */
+let truth = null;
 /** The worker's own postMessage (the DOM types only know the window's). @param {any} m */
 const post = (m) => /** @type {any} */ (self).postMessage(m);
 const ready = init({ module_or_path: new URL("./pkg-camera/embusen_bg.wasm", import.meta.url) });
@@ -84,6 +87,7 @@ async function handle(m) {
       m.background.name, new Uint8Array(m.background.bytes),
       v.name, v.width, v.height, fps, frameCount, m.method, m.offsetS,
     );
+    truth = m.truth ?? null;
     busyMs = decodeMs = 0;
     post({ type: "opened", decodes: Boolean(demuxed), why: why ?? null, fps, frameCount, warnings: job.warnings() });
     if (demuxed && config) {
@@ -117,9 +121,21 @@ function finish() {
   job.finish();
   busyMs += performance.now() - started;
   const outlines = job.outlines_px();
+  /** @type {Float64Array | null} */
+  let errors = null;
+  /** @type {string | null} */
+  let truthProblem = null;
+  if (truth) {
+    try {
+      errors = job.against_truth(truth.name, new Uint8Array(truth.bytes));
+    } catch (e) {
+      truthProblem = e instanceof Error ? e.message : String(e);
+    }
+  }
   /** @type {any} */ (self).postMessage({
     type: "done", recording: job.recording_text(), csv: job.track_csv(), warnings: job.warnings(), frames,
     msPerFrame: busyMs / Math.max(1, frames), decodeMsPerFrame: decodeMs / Math.max(1, frames), outlines,
+    errors, truthProblem,
   }, [outlines.buffer]);
   job.free();
   job = null;

@@ -10,7 +10,9 @@ use glam::{DVec2, DVec3};
 
 use crate::camera::Camera;
 use crate::error::Error;
+use crate::eval::track::{TrackErrors, frame_errors_cm, track_errors};
 use crate::image::GreyImage;
+use crate::io::hips_csv::parse_hips_csv;
 use crate::io::image_file::png_to_grey;
 use crate::io::recording::Recording;
 use crate::track::silhouette::SilhouetteRenderer;
@@ -141,6 +143,23 @@ impl TrackingJob {
         let warnings = track.warnings.clone();
         self.track = Some(track);
         Ok((export, warnings))
+    }
+
+    /// The finished track against the true hips of `truth` (a CSV of the
+    /// hips per video frame, as the shared scenes' `NAME.truth.csv`): the
+    /// horizontal error per frame (cm) over the frames both have, and its
+    /// figures as `embusen eval-track` prints them. An error naming the file
+    /// (`file:line:column`) when it does not read, or before `finish`.
+    pub fn against_truth(&self, truth: NamedBytes) -> Result<(Vec<f64>, TrackErrors), Error> {
+        let Some(track) = &self.track else {
+            return Err(Error::whole(truth.name, "the take is not tracked yet: nothing to compare"));
+        };
+        let text = std::str::from_utf8(truth.bytes)
+            .map_err(|e| Error::whole(truth.name, format!("not UTF-8 text: {e}")))?;
+        let truth_cm: Vec<DVec2> =
+            parse_hips_csv(text, truth.name)?.iter().map(|s| DVec2::new(s.hips_cm.x, s.hips_cm.z)).collect();
+        let track_cm: Vec<DVec2> = track.frames.iter().map(|f| f.floor_cm).collect();
+        Ok((frame_errors_cm(&track_cm, &truth_cm), track_errors(&track_cm, &truth_cm)))
     }
 
     /// The outer contour of the body (the tracker's model) where the

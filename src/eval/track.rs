@@ -24,10 +24,16 @@ pub struct TrackErrors {
     pub lost_share: f64,
 }
 
+/// The horizontal distance (cm) of `track` from `truth`, floor positions
+/// (x, z, cm) per frame, over the frames both have.
+pub fn frame_errors_cm(track: &[DVec2], truth: &[DVec2]) -> Vec<f64> {
+    track.iter().zip(truth).map(|(e, t)| (*e - *t).length()).collect()
+}
+
 /// The errors of `track` against `truth`, floor positions (x, z, cm) per
 /// frame, over the frames both have; NaN figures when there are none.
 pub fn track_errors(track: &[DVec2], truth: &[DVec2]) -> TrackErrors {
-    let errors: Vec<f64> = track.iter().zip(truth).map(|(e, t)| (*e - *t).length()).collect();
+    let errors = frame_errors_cm(track, truth);
     let n = errors.len();
     TrackErrors {
         mean_cm: if n > 0 { errors.iter().sum::<f64>() / n as f64 } else { f64::NAN },

@@ -106,6 +106,16 @@ impl CameraJob {
         out
     }
 
+    /// The finished track against the true hips of a CSV (the shared
+    /// scenes' `NAME.truth.csv`): `[mean, p90, max]` (cm) followed by the
+    /// error of every frame (cm). The error names the file.
+    pub fn against_truth(&self, name: &str, bytes: &[u8]) -> Result<Vec<f64>, JsError> {
+        let (per_frame, figures) = self.job.against_truth(NamedBytes { name, bytes }).map_err(js_error)?;
+        let mut out = vec![figures.mean_cm, figures.p90_cm, figures.max_cm];
+        out.extend(per_frame);
+        Ok(out)
+    }
+
     /// The corrected recording (after `finish`).
     pub fn recording_text(&self) -> String {
         self.recording_text.clone()

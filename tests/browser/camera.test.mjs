@@ -58,7 +58,7 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
   // take a core from the tracking.
   const { page, errors } = await openTake(
     "autoplay=0&video=/data/optical/walk.mp4&src=/data/optical/walk.suit.bvh&camera=/data/optical/walk.camera.json" +
-      "&background=/data/optical/walk.background.png",
+      "&background=/data/optical/walk.background.png&truth=/data/optical/walk.truth.csv",
   );
   const inputs = await page.textContent("#camera-panel .camera-inputs");
   assert.match(inputs, /640×480, 30\.000 fps, 195 frames/, inputs);
@@ -70,6 +70,10 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
   );
   assert.ok(result.decodedInWorker, `the worker did not decode the video: ${result.whyNotDecoded}`);
   assert.equal(result.frames, 195);
+  // With the truth given, the error is plotted and said: below the suit's
+  // own 13.6 cm on walk.
+  assert.ok(result.truthErrors && result.truthErrors.meanCm < 10, JSON.stringify(result.truthErrors));
+  assert.match(await page.textContent("#camera-panel .camera-status"), /against walk\.truth\.csv: mean \d/);
   assert.ok(result.recording === readFileSync(out, "utf8"), "the page's corrected BVH is not the CLI's");
   assert.ok(result.csv === readFileSync(join(scratch, "walk.tracked.track.csv"), "utf8"), "the page's track CSV is not the CLI's");
   assert.match(await page.textContent("#camera-panel .camera-status"), /195 frames tracked/);
