@@ -107,7 +107,9 @@ cmd_test() {
     ensure_chromium
     CHROMEDRIVER=/usr/bin/chromedriver WASM_BINDGEN_TEST_TIMEOUT=120 \
         cargo test --release --target "$WASM_TARGET" --test wasm --test image --test track_browser
-    node --test tests/browser/app.test.mjs tests/browser/camera.test.mjs
+    # One file at a time: the camera tests track at full speed, which would
+    # starve the player tests' animation checks running beside them.
+    node --test --test-concurrency=1 tests/browser/app.test.mjs tests/browser/camera.test.mjs
 }
 
 cmd_bench() {
