@@ -189,28 +189,23 @@ fn app_tracks(video: &Path, bvh: &Path, camera: &Path, background: &Path) -> (St
         .map(|p| (p.display().to_string(), std::fs::read(p).unwrap()))
         .collect();
     let named = |k: usize| NamedBytes { name: &files[k].0, bytes: &files[k].1 };
-    let mut job = TrackingJob::open(
-        named(0),
-        named(1),
-        named(2),
-        &video.display().to_string(),
-        VideoDescription {
-            width_px: info.width_px,
-            height_px: info.height_px,
-            fps: info.fps,
-            frame_count: info.frame_count,
-        },
-        TrackMethod::Fused(FusedParams::default()),
-        0.0,
-    )
-    .unwrap();
-    // An offset that is no time is refused, naming it.
     let description = VideoDescription {
         width_px: info.width_px,
         height_px: info.height_px,
         fps: info.fps,
         frame_count: info.frame_count,
     };
+    let mut job = TrackingJob::open(
+        named(0),
+        named(1),
+        named(2),
+        &video.display().to_string(),
+        description,
+        TrackMethod::Fused(FusedParams::default()),
+        0.0,
+    )
+    .unwrap();
+    // An offset that is no time is refused, naming it.
     let refused = TrackingJob::open(
         named(0),
         named(1),

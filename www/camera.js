@@ -130,11 +130,17 @@ export async function mountCameraTracking(element, options = {}) {
   let corners = [];
   /** Per video frame, the body's outline where the track puts it (x, y pixel after pixel). @type {Uint32Array[]} */
   let outlines = [];
+  /** The floor grid over the video (x, y pixel after pixel, NaN between lines), of the camera it was made for. @type {{camera: NamedFile, px: number[]} | null} */
+  let floorGrid = null;
   /** @type {TrackResult | null} */
   let result = null;
   /** @type {Worker | null} */
   let worker = null;
-  let cancelled = false;
+  /** Ends the tracking under way with its message (set while one runs). @type {((e: Error) => void) | null} */
+  let abort = null;
+  const cancel = () => {
+    abort?.(new Error("cancelled: the inputs are kept, track again when ready"));
+  };
   /** @type {Array<[number, number, number]>} */
   let path = [];
 
@@ -238,15 +244,23 @@ export async function mountCameraTracking(element, options = {}) {
       ctx.clearRect(0, 0, overlay.width, overlay.height);
       return;
     }
-    [overlay.width, overlay.height] = [video.videoWidth, video.videoHeight];
-    /** @type {number[]} */
-    let grid = [];
-    try {
-      const m = await loadCameraModule();
-      grid = Array.from(m.floor_grid(inputs.camera.name, new TextDecoder().decode(inputs.camera.bytes), 50, 500));
-    } catch (e) {
-      say(e instanceof Error ? e.message : String(e), true);
+    if (overlay.width !== video.videoWidth || overlay.height !== video.videoHeight) {
+      [overlay.width, overlay.height] = [video.videoWidth, video.videoHeight];
     }
+    // The grid is the camera's: made once per camera, not per frame drawn.
+    const camera = inputs.camera;
+    if (floorGrid?.camera !== camera) {
+      /** @type {number[]} */
+      let px = [];
+      try {
+        const m = await loadCameraModule();
+        px = Array.from(m.floor_grid(camera.name, new TextDecoder().decode(camera.bytes), 50, 500));
+      } catch (e) {
+        say(e instanceof Error ? e.message : String(e), true);
+      }
+      floorGrid = { camera, px };
+    }
+    const grid = floorGrid.px;
     ctx.clearRect(0, 0, overlay.width, overlay.height);
     ctx.strokeStyle = "rgba(255, 200, 40, 0.55)";
     ctx.lineWidth = 1;
@@ -385,7 +399,6 @@ export async function mountCameraTracking(element, options = {}) {
   async function track() {
     const { video, recording, camera, background } = inputs;
     if (!video || !recording || !camera || !background) throw new Error("open a video, its BVH, a camera.json and a background still first");
-    cancelled = false;
     path = [];
     errors = null;
     result = null;
@@ -400,13 +413,11 @@ export async function mountCameraTracking(element, options = {}) {
     let frameCount = video.frameCount;
     /** @type {(() => void) | null} */
     let slot = null;
-    /** @type {string | null} */
-    let failure = null;
     const failed = new Promise((_, reject) => {
+      abort = reject;
       w.onmessage = (event) => {
         const m = event.data;
         if (m.type === "error") {
-          failure = m.message;
           reject(new Error(m.message));
         } else if (m.type === "progress") {
           inFlight = Math.max(0, inFlight - 1);
@@ -447,10 +458,8 @@ export async function mountCameraTracking(element, options = {}) {
       // seek each.
       if (!opened.decodes) {
         for (let i = 0; i < frameCount; i++) {
-          if (cancelled) throw new Error("cancelled: the inputs are kept, track again when ready");
-          if (failure) throw new Error(failure);
           const t = performance.now();
-          const frame = await frameAt(video.element, i, video.fps);
+          const frame = /** @type {import("./video-frames.js").LumaFrame} */ (await Promise.race([frameAt(video.element, i, video.fps), failed]));
           readMs += performance.now() - t;
           // At most a few frames wait in the worker: memory stays bounded.
           while (inFlight >= 3) await Promise.race([new Promise((ok) => (slot = () => ok(null))), failed]);
@@ -459,18 +468,7 @@ export async function mountCameraTracking(element, options = {}) {
         }
         w.postMessage({ type: "finish" });
       }
-      const done = /** @type {any} */ (await Promise.race([
-        reply("done"),
-        new Promise((_, reject) => {
-          const check = setInterval(() => {
-            if (cancelled) {
-              clearInterval(check);
-              reject(new Error("cancelled: the inputs are kept, track again when ready"));
-            }
-          }, 100);
-          waiting.set("done-check", () => clearInterval(check));
-        }),
-      ]));
+      const done = /** @type {any} */ (await reply("done"));
       const seconds = (performance.now() - started) / 1000;
       outlines = [];
       for (let at = 0; at < done.outlines.length; ) {
@@ -499,7 +497,7 @@ export async function mountCameraTracking(element, options = {}) {
       say(e instanceof Error ? e.message : String(e), true);
       throw e;
     } finally {
-      waiting.get("done-check")?.(null);
+      abort = null;
       w.terminate();
       worker = null;
       cancelButton.disabled = true;
@@ -524,7 +522,7 @@ export async function mountCameraTracking(element, options = {}) {
     if (e.dataTransfer?.files) void open(e.dataTransfer.files);
   });
   trackButton.addEventListener("click", () => void track().catch(() => {}));
-  cancelButton.addEventListener("click", () => (cancelled = true));
+  cancelButton.addEventListener("click", cancel);
   calibrateButton.addEventListener("click", () => void calibrate().catch(() => {}));
   plot.addEventListener("click", (e) => {
     const v = inputs.video;
@@ -555,10 +553,10 @@ export async function mountCameraTracking(element, options = {}) {
     calibrate,
     /** The body's outline over video frame `i` where the last track puts it (x, y pixel after pixel). */
     outlineAt: (/** @type {number} */ i) => Array.from(outlines[i] ?? []),
-    cancel: () => (cancelled = true),
+    cancel,
     get result() { return result; },
     destroy() {
-      cancelled = true;
+      cancel();
       worker?.terminate();
       worker = null;
       if (inputs.video) closeVideo(inputs.video.element);

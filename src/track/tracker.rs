@@ -411,23 +411,18 @@ impl Tracker {
                 (predicted, (params.search_sigmas * spread).clamp(params.min_search_cm, params.max_search_cm))
             }
         };
-        let (truncation_px, depth_cm) = fused_truncation_px(&camera, params, prediction);
         // The energy reads the distances only up to the truncation, so they
         // are computed only so far, near the foreground (the same values).
         let features = match first_features {
             Some(f) => f,
             None => {
+                let (truncation_px, _) = fused_truncation_px(&camera, params, prediction);
                 let pipeline = &self.setup.pipeline;
                 let truncate_px = Some(pipeline.truncate_px.map_or(truncation_px, |t| t.min(truncation_px)));
                 features(frame, &self.setup.background, &PipelineParams { truncate_px, ..*pipeline }, label)?
             }
         };
-        let terms = FrameTerms::new(
-            &features.edge_distance,
-            &features.outside_distance,
-            &features.foreground,
-            truncation_px,
-        );
+        let (terms, depth_cm) = fused_terms(&camera, params, &features, prediction);
         let banded = BandedBody::new(&self.setup.shape, body, &camera, params, depth_cm);
         let found = coarse_to_fine(prediction, radius_cm, params.resolution_cm, |p| {
             self.fused_energy(&terms, &banded, p, params)

@@ -160,6 +160,14 @@ test("bad input is a message in the page, and what was open stays open", async (
       await panel.embusenCamera.open(files.map(([name, text]) => new File([text], name)));
       return [panel.querySelector(".camera-status").textContent, panel.querySelector(".camera-inputs").textContent];
     }, files);
+  // Cancelled while it tracks: a message, the inputs kept.
+  const cancelled = await page.evaluate(() => {
+    const panel = document.querySelector("#camera-panel").embusenCamera;
+    const tracking = panel.track().then(() => "tracked", (e) => e.message);
+    setTimeout(() => panel.cancel(), 500);
+    return tracking;
+  });
+  assert.match(cancelled, /^cancelled: the inputs are kept/, cancelled);
   // A video the browser cannot decode.
   let [said, inputs] = await open([["broken.mp4", "not a video at all"]]);
   assert.match(said, /broken\.mp4: this browser cannot decode the video/);
