@@ -423,8 +423,10 @@ export async function mountCameraTracking(element, options = {}) {
           inFlight = Math.max(0, inFlight - 1);
           slot?.();
           path.push([m.x, m.z, m.confidence]);
-          progress.value = (m.frame + 1) / frameCount;
+          // The page is redrawn a few times a second, not every frame: each
+          // repaint is composited in software, taken from the worker's core.
           if (m.frame % 10 === 0) {
+            progress.value = (m.frame + 1) / frameCount;
             drawTop();
             drawPlot();
             say(`tracking: frame ${m.frame + 1} of ${frameCount}`);
@@ -469,6 +471,7 @@ export async function mountCameraTracking(element, options = {}) {
         w.postMessage({ type: "finish" });
       }
       const done = /** @type {any} */ (await reply("done"));
+      progress.value = 1;
       const seconds = (performance.now() - started) / 1000;
       outlines = [];
       for (let at = 0; at < done.outlines.length; ) {

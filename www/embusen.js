@@ -259,6 +259,7 @@ export async function mount(element, options = {}) {
       showError(messageOf(e));
     } finally {
       setLoading(false);
+      wake();
     }
   };
 
@@ -303,6 +304,7 @@ export async function mount(element, options = {}) {
     const p = plots.getBoundingClientRect();
     player.resize(Math.round(v.width * dpr), Math.round(v.height * dpr), Math.round(p.width * dpr), Math.round(p.height * dpr));
     player.draw();
+    wake();
   };
   const resizeObserver = new ResizeObserver(() => destroyed || resize());
   resizeObserver.observe(element);
@@ -311,6 +313,7 @@ export async function mount(element, options = {}) {
   /** @param {boolean} on */
   const setPlaying = (on) => {
     player.set_playing(on);
+    wake();
     playButton.textContent = on ? "❚❚" : "▶";
   };
   const { defaults } = choices;
@@ -471,22 +474,48 @@ export async function mount(element, options = {}) {
   }, { signal });
 
   // --- the animation loop ---------------------------------------------------------
+  // It runs every animation frame while the player plays or the user acts on
+  // it; paused and left alone for a second, it looks again only five times a
+  // second, so that an idle player gives its core to the page's other work
+  // (the camera tracker's worker: software compositing 60 frames a second
+  // halved its speed). Anything the user does wakes it at once.
   let last = performance.now();
+  let idleTicks = 0;
+  let idleTimer = 0;
   /** @param {number} now */
   const loop = (now) => {
     frameRequest = 0;
     player.tick((now - last) / 1000);
     last = now;
     const frame = player.frame();
+    // Only what changed is written: an unchanged page is not repainted.
     if (+slider.value !== frame) slider.value = String(frame);
-    element.dataset.frame = String(frame);
-    readout.textContent = `${player.time_s().toFixed(2)} s · frame ${frame} / ${Math.max(0, player.frame_count() - 1)}`;
+    if (element.dataset.frame !== String(frame)) element.dataset.frame = String(frame);
+    const said = `${player.time_s().toFixed(2)} s · frame ${frame} / ${Math.max(0, player.frame_count() - 1)}`;
+    if (readout.textContent !== said) readout.textContent = said;
     if (!player.playing() && playButton.textContent !== "▶") playButton.textContent = "▶";
+    idleTicks = player.playing() ? 0 : idleTicks + 1;
+    if (idleTicks < 60) frameRequest = requestAnimationFrame(loop);
+    else idleTimer = window.setTimeout(() => {
+      idleTimer = 0;
+      frameRequest = requestAnimationFrame(loop);
+    }, 200);
+  };
+  const wake = () => {
+    idleTicks = 0;
+    if (!idleTimer) return;
+    clearTimeout(idleTimer);
+    idleTimer = 0;
+    last = performance.now();
     frameRequest = requestAnimationFrame(loop);
   };
+  for (const type of ["pointerdown", "pointermove", "wheel", "keydown", "input", "change"]) {
+    element.addEventListener(type, wake, { signal, passive: true });
+  }
   const stopLoop = () => {
     if (frameRequest) cancelAnimationFrame(frameRequest);
-    frameRequest = 0;
+    clearTimeout(idleTimer);
+    frameRequest = idleTimer = 0;
   };
 
   /** @param {string} message */

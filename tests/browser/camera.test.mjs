@@ -183,6 +183,21 @@ test("bad input is a message in the page, and what was open stays open", async (
   // A file of no kind the panel knows.
   [said] = await open([["notes.txt", "hello"]]);
   assert.match(said, /notes\.txt: not a video, a BVH, a camera\.json, a board's layout or a PNG still/);
+  // A BVH that ends before the video: its frames are tracked, the rest of
+  // the video is said to have no pose, and the result still exports.
+  await open([["small.camera.json", camera.replace('"width": 320', '"width": 640')]]);
+  const bvh = readFileSync(join(DATA, "optical/walk.suit.bvh"), "utf8").split("\n");
+  const motion = bvh.findIndex((line) => line.startsWith("Frame Time"));
+  const short = [...bvh.slice(0, motion + 1).map((l) => l.replace(/^Frames: \d+/, "Frames: 90")), ...bvh.slice(motion + 1, motion + 91)];
+  await open([["short.suit.bvh", short.join("\n") + "\n"]]);
+  const shortTrack = await page.evaluate(() =>
+    document.querySelector("#camera-panel").embusenCamera.track().then((r) => ({ frames: r.frames, recording: r.recording }), (e) => e.message));
+  const status = await page.textContent("#camera-panel .camera-status");
+  assert.match(status, /video frames \d+–194 have no pose in short\.suit\.bvh: not tracked/, status);
+  assert.match(status, /the video lasts 6\.50 s \(195 frames at 30\.000 fps\), the BVH 3\.00 s \(90 frames/, status);
+  assert.equal(shortTrack.frames, 195, JSON.stringify(shortTrack).slice(0, 200));
+  assert.match(shortTrack.recording, /^Frames: 90$/m, "the corrected BVH keeps the BVH's own frames");
+  assert.match(await page.textContent("#camera-panel .camera-inputs"), /short\.suit\.bvh/);
   assert.deepEqual(errors, []);
   await page.close();
 });
