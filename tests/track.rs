@@ -229,6 +229,37 @@ fn app_tracks(video: &Path, bvh: &Path, camera: &Path, background: &Path) -> (St
         job.push_luma(&planes[..w * h], w, false).unwrap();
     }
     let (export, _) = job.finish().unwrap();
+    // As the page runs it on two cores: the path search's energies left to
+    // a second job of the same take, handed back a few frames late — the
+    // same bytes.
+    let open = || {
+        let (v, d) = (&video.display().to_string(), description);
+        TrackingJob::open(named(0), named(1), named(2), v, d, TrackMethod::Fused(FusedParams::default()), 0.0)
+            .unwrap()
+    };
+    let (mut tracking, mut scoring) = (open(), open());
+    tracking.defer_path_energies();
+    let mut late = std::collections::VecDeque::new();
+    for planes in raw.stdout.chunks_exact(frame_bytes) {
+        tracking.push_luma(&planes[..w * h], w, false).unwrap();
+        if let Some(request) = tracking.take_path_request() {
+            late.push_back((
+                request.frame,
+                scoring.score_path(&request, &planes[..w * h], w, false).unwrap(),
+            ));
+        }
+        while late.len() > 3 {
+            let (frame, energies) = late.pop_front().unwrap();
+            tracking.set_path_energies(frame, energies).unwrap();
+        }
+    }
+    let refused = tracking.finish().unwrap_err().to_string();
+    assert!(refused.contains("3 frames still wait for their path energies"), "{refused}");
+    for (frame, energies) in late {
+        tracking.set_path_energies(frame, energies).unwrap();
+    }
+    assert!(tracking.set_path_energies(0, vec![1.0]).is_err(), "energies no request asked for");
+    assert_eq!(tracking.finish().unwrap().0, export, "deferred path energies change the track");
     // The outlines the page draws over the video: one per frame, each the
     // body's contour (every frame of walk has a pose).
     let outlines = job.outlines_px();

@@ -37,6 +37,8 @@ import { closeVideo, frameAt, measureFps, openVideo } from "./video-frames.js";
  * @property {number} framesPerSecond tracked frames per second of wall time, frame reading included
  * @property {number} readMsPerFrame reading a frame: decoding and copying its luma plane in the worker, or a seek here
  * @property {number} trackMsPerFrame the worker's tracking per frame
+ * @property {number} scoreMsPerFrame the second worker's scoring of the path search per frame (0 with one)
+ * @property {number} workers the workers that tracked: 2 for `fused` (the path search's energies in the second), 1 for `paper`
  * @property {boolean} decodedInWorker whether the worker decoded the frames itself (WebCodecs)
  * @property {string | null} whyNotDecoded why not, when it did not
  * @property {{meanCm: number, p90Cm: number, maxCm: number} | null} truthErrors against the truth, when given
@@ -485,7 +487,8 @@ export async function mountCameraTracking(element, options = {}) {
       result = {
         recording: done.recording, csv: done.csv, warnings: done.warnings, frames: done.frames,
         framesPerSecond: done.frames / seconds, readMsPerFrame: opened.decodes ? done.decodeMsPerFrame : readMs / done.frames,
-        trackMsPerFrame: done.msPerFrame, decodedInWorker: opened.decodes, whyNotDecoded: opened.why ?? null,
+        trackMsPerFrame: done.msPerFrame, scoreMsPerFrame: done.scoreMsPerFrame, workers: opened.workers,
+        decodedInWorker: opened.decodes, whyNotDecoded: opened.why ?? null,
         truthErrors: done.errors ? { meanCm: done.errors[0], p90Cm: done.errors[1], maxCm: done.errors[2] } : null,
       };
       drawTop();

@@ -9,22 +9,37 @@
 //    video: {name, width, height, fps, frameCount, bytes}, method, offsetS, truth?: {name, bytes}}
 //   {type: "frame", luma: ArrayBuffer, stride, fullRange}     (only when it does not decode)
 //   {type: "finish"}                                          (likewise)
-// Messages out: {type: "opened", decodes, why, fps, frameCount, warnings},
+// Messages out: {type: "opened", decodes, why, fps, frameCount, warnings, workers (1 or 2)},
 // {type: "progress", frame, x, z, confidence},
-// {type: "done", recording, csv, warnings, frames, msPerFrame, decodeMsPerFrame,
+// {type: "done", recording, csv, warnings, frames, msPerFrame, decodeMsPerFrame, scoreMsPerFrame,
 //  outlines: Uint32Array (per frame n, then n pixels x, y: the body where the track puts it),
 //  errors: Float64Array | null (with a truth: mean, p90, max, then per frame, cm), truthProblem},
 // {type: "error", message}.
 // After an error the worker takes nothing more: the page starts a new one.
+//
+// For the fused tracker it starts a second worker of its own, this file again
+// named "path-scorer", with the same take: half the tracker's work (the path
+// search's energies, CameraJob.defer_path_energies) is done there, from the
+// same frame, while this one reads the next — two cores for one take, the
+// same bytes. It takes {type: "open", ...as above without the video's bytes}
+// and {type: "score", request, luma, stride, fullRange}, and answers
+// {type: "energies", frame, energies} or {type: "error", message}.
 
 import init, { CameraJob, demux_video } from "./pkg-camera/embusen.js";
 import { lumaOf } from "./video-frames.js";
 
 /** @type {CameraJob | null} */
 let job = null;
+/** The path scorer (a worker) and how many of its answers are awaited. @type {Worker | null} */
+let scorer = null;
+let scoring = 0;
+/** Wakes whoever waits for the scorer's answers. @type {(() => void) | null} */
+let answered = null;
 let failed = false;
 let busyMs = 0;
 let decodeMs = 0;
+/** The path scorer's time, summed over the frames it scored. */
+let scoreMs = 0;
 /** The true hips per video frame (a CSV), when the page has them. @type {{name: string, bytes: ArrayBuffer} | null} */
 let truth = null;
 /** The worker's own postMessage (the DOM types only know the window's). @param {any} m */
@@ -33,17 +48,79 @@ const ready = init({ module_or_path: new URL("./pkg-camera/embusen_bg.wasm", imp
 
 /** @param {unknown} e */
 function fail(e) {
+  if (failed) return;
   failed = true;
   job?.free();
   job = null;
+  scorer?.terminate();
+  scorer = null;
+  answered?.();
   post({ type: "error", message: e instanceof Error ? e.message : String(e) });
 }
+
+/** The take's job, as the page described it (the scorer's is the same). @param {any} m */
+const openJob = (m, /** @type {number} */ fps, /** @type {number} */ frameCount) => new CameraJob(
+  m.recording.name, new Uint8Array(m.recording.bytes),
+  m.camera.name, new Uint8Array(m.camera.bytes),
+  m.background.name, new Uint8Array(m.background.bytes),
+  m.video.name, m.video.width, m.video.height, fps, frameCount, m.method, m.offsetS,
+);
 
 // Messages are handled one after another: a frame never overtakes the open.
 let queue = Promise.resolve();
 self.onmessage = (event) => {
-  queue = queue.then(() => handle(event.data)).catch(fail);
+  queue = queue.then(() => (self.name === "path-scorer" ? score(event.data) : handle(event.data))).catch(fail);
 };
+
+/** The path scorer's side. @param {any} m */
+async function score(m) {
+  if (failed) return;
+  await ready;
+  if (m.type === "open") {
+    job = openJob(m, m.video.fps, m.video.frameCount);
+  } else if (m.type === "score") {
+    if (!job) throw new Error("a path to score before the take was opened");
+    const started = performance.now();
+    const energies = job.score_path(m.request, new Uint8Array(m.luma), m.stride, m.fullRange);
+    post({ type: "energies", frame: m.request[0], energies, ms: performance.now() - started });
+  }
+}
+
+/**
+ * Starts the path scorer for the take `m` opened at `fps` (the fused
+ * tracker only; where a worker cannot start one, this one scores itself).
+ * @param {any} m
+ * @param {number} fps
+ * @param {number} frameCount
+ */
+function startScorer(m, fps, frameCount) {
+  if (m.method !== "fused" || typeof Worker === "undefined" || !job) return;
+  const s = new Worker(new URL(import.meta.url), { type: "module", name: "path-scorer" });
+  s.onmessage = (event) => {
+    const a = event.data;
+    try {
+      if (a.type === "error") throw new Error(a.message);
+      job?.set_path_energies(a.frame, a.energies);
+      scoreMs += a.ms;
+      scoring--;
+      answered?.();
+    } catch (e) {
+      fail(e);
+    }
+  };
+  s.onerror = (e) => fail(new Error(`the path scorer's worker failed: ${e.message}`));
+  const { bytes: _, ...video } = m.video;
+  s.postMessage({ ...m, video: { ...video, fps, frameCount } });
+  job.defer_path_energies();
+  scorer = s;
+}
+
+/** Resolves when at most `most` of the scorer's answers are awaited. */
+async function scored(/** @type {number} */ most) {
+  while (scoring > most && !failed) await new Promise((ok) => (answered = () => ok(null)));
+  answered = null;
+  if (failed) throw new Error("the tracking failed");
+}
 
 /**
  * The video's frames as a decoder wants them, or why they cannot be had.
@@ -81,40 +158,56 @@ async function handle(m) {
     const { demuxed, config, why } = await decodable(v);
     const fps = demuxed ? demuxed.fps() : v.fps;
     const frameCount = demuxed ? demuxed.frame_count() : v.frameCount;
-    job = new CameraJob(
-      m.recording.name, new Uint8Array(m.recording.bytes),
-      m.camera.name, new Uint8Array(m.camera.bytes),
-      m.background.name, new Uint8Array(m.background.bytes),
-      v.name, v.width, v.height, fps, frameCount, m.method, m.offsetS,
-    );
+    job = openJob(m, fps, frameCount);
     truth = m.truth ?? null;
-    busyMs = decodeMs = 0;
-    post({ type: "opened", decodes: Boolean(demuxed), why: why ?? null, fps, frameCount, warnings: job.warnings() });
+    busyMs = decodeMs = scoreMs = 0;
+    startScorer(m, fps, frameCount);
+    post({
+      type: "opened", decodes: Boolean(demuxed), why: why ?? null, fps, frameCount, warnings: job.warnings(),
+      workers: scorer ? 2 : 1,
+    });
     if (demuxed && config) {
       const frames = demuxed.frames();
       demuxed.free();
       await decodeAndTrack(new Uint8Array(v.bytes), v.name, frames, config);
-      finish();
+      await finish();
     }
   } else if (m.type === "frame") {
     if (!job) throw new Error("a frame before the take was opened");
-    track(new Uint8Array(m.luma), m.stride, m.fullRange);
+    await track(new Uint8Array(m.luma), m.stride, m.fullRange);
   } else if (m.type === "finish") {
-    finish();
+    await finish();
   }
 }
 
-/** Tracks one frame and says where it put the actor. */
-function track(/** @type {Uint8Array} */ luma, /** @type {number} */ stride, /** @type {boolean} */ fullRange) {
+/**
+ * Tracks one frame, hands its path search to the scorer, and says where it
+ * put the actor. A few frames' paths may wait to be scored (memory stays
+ * bounded: a luma plane each).
+ * @param {Uint8Array} luma the frame's luma plane (given away to the scorer)
+ * @param {number} stride
+ * @param {boolean} fullRange
+ */
+async function track(luma, stride, fullRange) {
+  if (!job) throw new Error("no take is open");
+  await scored(4);
   if (!job) throw new Error("no take is open");
   const started = performance.now();
   const frame = job.frames_done();
   const [x, z, confidence] = job.push_luma(luma, stride, fullRange);
+  const request = scorer ? job.path_request() : undefined;
+  if (scorer && request) {
+    scoring++;
+    scorer.postMessage({ type: "score", request, luma: luma.buffer, stride, fullRange }, [luma.buffer]);
+  }
   busyMs += performance.now() - started;
   post({ type: "progress", frame, x, z, confidence });
 }
 
-function finish() {
+async function finish() {
+  await scored(0);
+  scorer?.terminate();
+  scorer = null;
   if (!job) throw new Error("nothing to finish: the take was not opened");
   const frames = job.frames_done();
   const started = performance.now();
@@ -134,7 +227,8 @@ function finish() {
   }
   /** @type {any} */ (self).postMessage({
     type: "done", recording: job.recording_text(), csv: job.track_csv(), warnings: job.warnings(), frames,
-    msPerFrame: busyMs / Math.max(1, frames), decodeMsPerFrame: decodeMs / Math.max(1, frames), outlines,
+    msPerFrame: busyMs / Math.max(1, frames), decodeMsPerFrame: decodeMs / Math.max(1, frames),
+    scoreMsPerFrame: scoreMs / Math.max(1, frames), outlines,
     errors, truthProblem,
   }, [outlines.buffer]);
   job.free();
@@ -198,7 +292,7 @@ async function decodeAndTrack(bytes, name, table, config) {
         frame.close();
       }
       decodeMs += performance.now() - started;
-      track(new Uint8Array(luma.luma), luma.stride, luma.fullRange);
+      await track(new Uint8Array(luma.luma), luma.stride, luma.fullRange);
       tracked++;
     }
   } finally {

@@ -18,7 +18,7 @@ use crate::io::recording::Recording;
 use crate::track::silhouette::SilhouetteRenderer;
 use crate::track::suit_motion::VideoTiming;
 use crate::track::take::{Take, TakeExport};
-use crate::track::tracker::{Track, TrackMethod, Tracker};
+use crate::track::tracker::{PathRequest, PathScorer, Track, TrackMethod, Tracker};
 
 /// The video as the page's decoder describes it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,6 +54,8 @@ pub struct TrackingJob {
     take: Take,
     video_name: String,
     tracker: Option<Tracker>,
+    /// Scores other jobs' path requests (made when first asked).
+    path_scorer: Option<PathScorer>,
     /// The finished track, for the outlines.
     track: Option<Track>,
 }
@@ -89,7 +91,13 @@ impl TrackingJob {
         let timing = VideoTiming { fps: video.fps, frame_count: video.frame_count, offset_s };
         let take = Take::new(recording, camera, background, timing, method, Vec::new())?;
         let tracker = Tracker::new(take.setup.clone())?;
-        Ok(TrackingJob { take, video_name: video_name.to_string(), tracker: Some(tracker), track: None })
+        Ok(TrackingJob {
+            take,
+            video_name: video_name.to_string(),
+            tracker: Some(tracker),
+            path_scorer: None,
+            track: None,
+        })
     }
 
     /// What the user should know before the frames come (frames without a
@@ -128,12 +136,60 @@ impl TrackingJob {
         Ok(FrameProgress { frame, floor_cm: tracked.floor_cm, confidence: tracked.confidence })
     }
 
+    /// Leaves the path search's energies to another job of the same take
+    /// ([`Tracker::defer_path_energies`]: in the page, a second worker).
+    pub fn defer_path_energies(&mut self) {
+        if let Some(tracker) = self.tracker.as_mut() {
+            tracker.defer_path_energies();
+        }
+    }
+
+    /// What the frame just tracked leaves to score, when deferred.
+    pub fn take_path_request(&mut self) -> Option<PathRequest> {
+        self.tracker.as_mut().and_then(Tracker::take_path_request)
+    }
+
+    /// Scores another job's request from the same frame's luma plane (this
+    /// job tracks nothing itself).
+    pub fn score_path(
+        &mut self,
+        request: &PathRequest,
+        luma: &[u8],
+        stride: usize,
+        full_range: bool,
+    ) -> Result<Vec<f64>, Error> {
+        let size = self.take.setup.camera.image_size;
+        let label = format!("{} frame {}", self.video_name, request.frame);
+        let grey = GreyImage::from_luma(size.width_px, size.height_px, luma, stride, full_range, &label)?;
+        let scorer = match &mut self.path_scorer {
+            Some(scorer) => scorer,
+            None => self.path_scorer.insert(PathScorer::new(self.take.setup.clone())?),
+        };
+        scorer.energies(request, &grey)
+    }
+
+    /// Hands back the energies of a request this job made.
+    pub fn set_path_energies(&mut self, frame: usize, energies_px: Vec<f64>) -> Result<(), Error> {
+        match self.tracker.as_mut() {
+            Some(tracker) => tracker.set_path_energies(frame, energies_px),
+            None => Err(Error::whole(&self.video_name, "the tracking has ended: no path energies wanted")),
+        }
+    }
+
     /// Smooths the track and writes it; the warnings the tracking adds (frames
     /// the camera did not see) are in the returned list. An error when no
-    /// frame was read, or the job has already finished.
+    /// frame was read, deferred path energies have not all come back, or
+    /// the job has already finished.
     pub fn finish(&mut self) -> Result<(TakeExport, Vec<String>), Error> {
         if self.frames_done() == 0 {
             return Err(Error::whole(&self.video_name, "no frame was read: nothing to write"));
+        }
+        let pending = self.tracker.as_ref().map_or(0, Tracker::path_energies_pending);
+        if pending > 0 {
+            return Err(Error::whole(
+                &self.video_name,
+                format!("{pending} frames still wait for their path energies: hand them back first"),
+            ));
         }
         let Some(tracker) = self.tracker.take() else {
             return Err(Error::whole(&self.video_name, "the tracking has already ended"));

@@ -188,21 +188,21 @@ pub struct TrackSetup {
 /// The tracker in the middle of a video.
 pub struct Tracker {
     setup: TrackSetup,
-    renderer: SilhouetteRenderer,
-    silhouette: Silhouette,
-    /// The widened body's silhouette, for the band.
-    band_silhouette: Silhouette,
+    scorer: Scorer,
     filter: Option<FloorFilter>,
     /// The paper's chosen positions, unsmoothed.
     paper_path: Vec<DVec2>,
     /// The fused tracker's frames for the path search, one per frame.
     path_frames: Vec<Option<PathRecord>>,
+    /// Whether the path search's energies are left to the caller
+    /// ([`Tracker::defer_path_energies`]), and the last frame's request.
+    defer_path: bool,
+    path_request: Option<PathRequest>,
     frames: Vec<TrackedFrame>,
 }
 
 impl Tracker {
     pub fn new(setup: TrackSetup) -> Result<Tracker, Error> {
-        let size = setup.camera.image_size;
         setup.camera.check_image_size(
             setup.background.width_px,
             setup.background.height_px,
@@ -211,17 +211,56 @@ impl Tracker {
         if let TrackMethod::Paper(params) = &setup.method {
             params.check().map_err(|m| Error::whole("<paper tracker>", m))?;
         }
-        let renderer = SilhouetteRenderer::new(&setup.camera);
         Ok(Tracker {
-            silhouette: Silhouette::empty(size),
-            band_silhouette: Silhouette::empty(size),
-            renderer,
+            scorer: Scorer::new(&setup.camera),
             setup,
             filter: None,
             paper_path: Vec::new(),
             path_frames: Vec::new(),
+            defer_path: false,
+            path_request: None,
             frames: Vec::new(),
         })
+    }
+
+    /// From now on the fused tracker does not score the path search's
+    /// candidates itself (half its work): after each frame
+    /// [`Tracker::take_path_request`] says what to score, a [`PathScorer`]
+    /// scores it from the same frame (in the page, in a second worker, while
+    /// this one reads the next frame), and [`Tracker::set_path_energies`]
+    /// hands the energies back before [`Tracker::finish`]. The track is the
+    /// same to the last bit.
+    pub fn defer_path_energies(&mut self) {
+        self.defer_path = true;
+    }
+
+    /// What the frame just read leaves to score (deferred only; `None`
+    /// where it has nothing: no pose, a fit not believable, the paper's).
+    pub fn take_path_request(&mut self) -> Option<PathRequest> {
+        self.path_request.take()
+    }
+
+    /// The energies of a [`PathRequest`]'s candidates, as
+    /// [`PathScorer::energies`] gave them. An error when the frame asked for
+    /// none or the count differs.
+    pub fn set_path_energies(&mut self, frame: usize, energies_px: Vec<f64>) -> Result<(), Error> {
+        let record = self.path_frames.get_mut(frame).and_then(|r| r.as_mut());
+        match record {
+            Some(r) if r.pending && r.frame.candidates_cm.len() == energies_px.len() => {
+                r.frame.energies_px = energies_px;
+                r.pending = false;
+                Ok(())
+            }
+            _ => Err(Error::whole(
+                &format!("video frame {frame}"),
+                format!("{} path energies that no request of this frame asked for", energies_px.len()),
+            )),
+        }
+    }
+
+    /// How many frames still wait for their path energies.
+    pub fn path_energies_pending(&self) -> usize {
+        self.path_frames.iter().flatten().filter(|r| r.pending).count()
     }
 
     /// The frames read so far.
@@ -234,6 +273,7 @@ impl Tracker {
         let i = self.frames.len();
         let label = format!("video frame {i}");
         self.setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
+        self.path_request = None;
         let time_s = i as f64 / self.setup.timing.fps;
         let instant = self.setup.suit.instant(self.setup.timing.bvh_time_s(i));
         let Some(body_cm) = self.setup.suit.body_at(instant) else {
@@ -299,42 +339,13 @@ impl Tracker {
         for a in -steps..=steps {
             for b in -8..=8 {
                 let p = around_cm + along * (2.0 * a as f64) + along.perp() * b as f64;
-                let e = self.fused_energy(&terms, &banded, p, &params);
+                let e = self.scorer.energy(&terms, &banded, p, &params);
                 if e.is_finite() && best.is_none_or(|(_, least)| e < least) {
                     best = Some((p, e));
                 }
             }
         }
         Ok(best.map(|(p, _)| p))
-    }
-
-    /// The fused energy of `body` at `floor_cm`; NaN where it is not in the image.
-    fn fused_energy(
-        &mut self,
-        terms: &FrameTerms,
-        body: &BandedBody,
-        floor_cm: DVec2,
-        params: &FusedParams,
-    ) -> f64 {
-        self.fused_fit(terms, body, floor_cm)
-            .map_or(f64::NAN, |f| f.fused_energy(params.mask_weight, params.uncovered_weight))
-    }
-
-    /// The fit of `body` at `floor_cm` with its band (none when the band is
-    /// 0 px wide: then the widened body is not drawn at all).
-    fn fused_fit(&mut self, terms: &FrameTerms, body: &BandedBody, floor_cm: DVec2) -> Option<Fit> {
-        let shift = DVec3::new(floor_cm.x, 0.0, floor_cm.y);
-        self.renderer.render_into(&body.body, shift, &mut self.silhouette);
-        if body.band_px <= 0.0 {
-            return terms.fit(&self.silhouette);
-        }
-        self.renderer.render_into(&body.widened, shift, &mut self.band_silhouette);
-        terms.fit_in_band(&self.silhouette, &self.band_silhouette, body.band_px)
-    }
-
-    fn render_fit(&mut self, terms: &FrameTerms, body: &PosedBody, floor_cm: DVec2) -> Option<Fit> {
-        self.renderer.render_into(body, DVec3::new(floor_cm.x, 0.0, floor_cm.y), &mut self.silhouette);
-        terms.fit(&self.silhouette)
     }
 
     fn paper_frame(
@@ -354,7 +365,7 @@ impl Tracker {
         let last = self.paper_path.last().copied().unwrap_or(DVec2::ZERO);
         let mut fits = Vec::new();
         let frame = paper_step(last, params, |p| {
-            let fit = self.render_fit(&terms, body, p);
+            let fit = self.scorer.plain_fit(&terms, body, p);
             fits.push(fit);
             fit.map_or(f64::NAN, |f| f.chamfer_px)
         });
@@ -413,21 +424,22 @@ impl Tracker {
         };
         // The energy reads the distances only up to the truncation, so they
         // are computed only so far, near the foreground (the same values).
-        let features = match first_features {
-            Some(f) => f,
+        let pipeline = &self.setup.pipeline;
+        let (features, truncate_px) = match first_features {
+            Some(f) => (f, pipeline.truncate_px),
             None => {
                 let (truncation_px, _) = fused_truncation_px(&camera, params, prediction);
-                let pipeline = &self.setup.pipeline;
                 let truncate_px = Some(pipeline.truncate_px.map_or(truncation_px, |t| t.min(truncation_px)));
-                features(frame, &self.setup.background, &PipelineParams { truncate_px, ..*pipeline }, label)?
+                let params = PipelineParams { truncate_px, ..*pipeline };
+                (features(frame, &self.setup.background, &params, label)?, truncate_px)
             }
         };
         let (terms, depth_cm) = fused_terms(&camera, params, &features, prediction);
         let banded = BandedBody::new(&self.setup.shape, body, &camera, params, depth_cm);
         let found = coarse_to_fine(prediction, radius_cm, params.resolution_cm, |p| {
-            self.fused_energy(&terms, &banded, p, params)
+            self.scorer.energy(&terms, &banded, p, params)
         });
-        let fit = found.and_then(|(p, _)| self.fused_fit(&terms, &banded, p).map(|fit| (p, fit)));
+        let fit = found.and_then(|(p, _)| self.scorer.fit(&terms, &banded, p).map(|fit| (p, fit)));
         let reacquire_after = reacquire_after_frames(params, dt);
         self.filter.get_or_insert_with(|| FloorFilter::new(prediction, radius_cm, dt, reacquire_after));
         let mut confidence = 0.0;
@@ -447,8 +459,8 @@ impl Tracker {
             let mut sigma2 = [0.0; 2];
             for (k, u) in [along, across].into_iter().enumerate() {
                 let (plus, minus) = (
-                    self.fused_energy(&terms, &banded, p + u * h, params),
-                    self.fused_energy(&terms, &banded, p - u * h, params),
+                    self.scorer.energy(&terms, &banded, p + u * h, params),
+                    self.scorer.energy(&terms, &banded, p - u * h, params),
                 );
                 let curvature = (plus + minus - 2.0 * e0) / (h * h);
                 // The energy is a mean over the contour; it is as uncertain
@@ -487,12 +499,22 @@ impl Tracker {
                 (-steps..=steps).map(|k| base + along * (k as f64 * params.path_spacing_cm)).collect();
             // Where the fit is not believable the suit's steps carry the
             // frame (all candidates alike).
-            let energies_px = if believable {
-                candidates_cm.iter().map(|&p| self.fused_energy(&terms, &banded, p, params)).collect()
-            } else {
+            let pending = believable && self.defer_path;
+            let energies_px = if !believable {
                 vec![f64::NAN; candidates_cm.len()]
+            } else if pending {
+                self.path_request = Some(PathRequest {
+                    frame: i,
+                    prediction_cm: prediction,
+                    truncate_px,
+                    candidates_cm: candidates_cm.clone(),
+                });
+                Vec::new()
+            } else {
+                candidates_cm.iter().map(|&p| self.scorer.energy(&terms, &banded, p, params)).collect()
             };
             self.path_frames.push(Some(PathRecord {
+                pending,
                 frame: PathFrame {
                     candidates_cm,
                     energies_px,
@@ -537,7 +559,12 @@ impl Tracker {
         guesses
             .into_iter()
             .map(|g| {
-                (g, self.render_fit(&terms, body, g).map_or(f64::INFINITY, |f| f.fused_energy(1.0, 0.0)))
+                (
+                    g,
+                    self.scorer
+                        .plain_fit(&terms, body, g)
+                        .map_or(f64::INFINITY, |f| f.fused_energy(1.0, 0.0)),
+                )
             })
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .map_or(DVec2::ZERO, |(g, _)| g)
@@ -600,8 +627,19 @@ impl Tracker {
         Some(filter)
     }
 
-    /// The track, smoothed.
+    /// The track, smoothed. Deferred path energies that never came count
+    /// as a fit not believed (and are said in the warnings).
     pub fn finish(mut self) -> Track {
+        let mut warnings = Vec::new();
+        let never_came = self.path_energies_pending();
+        if never_came > 0 {
+            warnings
+                .push(format!("{never_came} frames' path energies never came: the suit's steps carry them"));
+            for r in self.path_frames.iter_mut().flatten().filter(|r| r.pending) {
+                r.frame.energies_px = vec![f64::NAN; r.frame.candidates_cm.len()];
+                r.pending = false;
+            }
+        }
         let mut frames = std::mem::take(&mut self.frames);
         let smoothed: Vec<DVec2> = match (&self.setup.method, &self.filter) {
             (TrackMethod::Paper(params), _) => paper_smooth(&self.paper_path, params),
@@ -618,7 +656,6 @@ impl Tracker {
         }
         // A frame without a pose has no height; one the camera did not see
         // has no confidence.
-        let mut warnings = Vec::new();
         let without_pose = frames.iter().filter(|f| f.height_cm.is_nan()).count();
         if without_pose > 0 {
             warnings
@@ -639,10 +676,114 @@ impl Tracker {
     }
 }
 
+/// What the path search asks of one frame when its energies are deferred
+/// ([`Tracker::defer_path_energies`]): the fused energy at each candidate,
+/// in the frame's terms as the tracker made them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PathRequest {
+    /// The video frame.
+    pub frame: usize,
+    /// Where the frame's terms were made: the prediction (x, z, cm).
+    pub prediction_cm: DVec2,
+    /// The cap of the distance transforms the frame's features had.
+    pub truncate_px: Option<f32>,
+    /// Where to score (x, z, cm).
+    pub candidates_cm: Vec<DVec2>,
+}
+
+/// Scores [`PathRequest`]s apart from the tracker, from the same frames:
+/// what the tracker would have computed, to the last bit.
+pub struct PathScorer {
+    setup: TrackSetup,
+    params: FusedParams,
+    scorer: Scorer,
+}
+
+impl PathScorer {
+    /// An error when the setup's tracker is not the fused one (the paper's
+    /// has no path search).
+    pub fn new(setup: TrackSetup) -> Result<PathScorer, Error> {
+        let TrackMethod::Fused(params) = setup.method else {
+            return Err(Error::whole("<path scorer>", "only the fused tracker searches a path"));
+        };
+        Ok(PathScorer { scorer: Scorer::new(&setup.camera), params, setup })
+    }
+
+    /// The fused energy (px) at each of `request`'s candidates in `frame`,
+    /// video frame `request.frame`; NaN where the body is not in the image.
+    pub fn energies(&mut self, request: &PathRequest, frame: &GreyImage) -> Result<Vec<f64>, Error> {
+        let label = format!("video frame {}", request.frame);
+        let setup = &self.setup;
+        setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
+        let instant = setup.suit.instant(setup.timing.bvh_time_s(request.frame));
+        let Some(body_cm) = setup.suit.body_at(instant) else {
+            return Err(Error::whole(&label, "no pose in the BVH here: no path to score"));
+        };
+        let body = setup.shape.pose(&body_cm, DVec3::ZERO)?;
+        let pipeline = PipelineParams { truncate_px: request.truncate_px, ..setup.pipeline };
+        let features = features(frame, &setup.background, &pipeline, &label)?;
+        let (terms, depth_cm) = fused_terms(&setup.camera, &self.params, &features, request.prediction_cm);
+        let banded = BandedBody::new(&setup.shape, &body, &setup.camera, &self.params, depth_cm);
+        let params = self.params;
+        Ok(request.candidates_cm.iter().map(|&p| self.scorer.energy(&terms, &banded, p, &params)).collect())
+    }
+}
+
+/// Scores a body's silhouette at floor positions in one frame's terms: a
+/// renderer and its two silhouettes, kept from one position to the next.
+struct Scorer {
+    renderer: SilhouetteRenderer,
+    silhouette: Silhouette,
+    /// The widened body's silhouette, for the band.
+    band_silhouette: Silhouette,
+}
+
+impl Scorer {
+    fn new(camera: &Camera) -> Scorer {
+        Scorer {
+            renderer: SilhouetteRenderer::new(camera),
+            silhouette: Silhouette::empty(camera.image_size),
+            band_silhouette: Silhouette::empty(camera.image_size),
+        }
+    }
+
+    /// The fused energy of `body` at `floor_cm`; NaN where it is not in the image.
+    fn energy(
+        &mut self,
+        terms: &FrameTerms,
+        body: &BandedBody,
+        floor_cm: DVec2,
+        params: &FusedParams,
+    ) -> f64 {
+        self.fit(terms, body, floor_cm)
+            .map_or(f64::NAN, |f| f.fused_energy(params.mask_weight, params.uncovered_weight))
+    }
+
+    /// The fit of `body` at `floor_cm` with its band (none when the band is
+    /// 0 px wide: then the widened body is not drawn at all).
+    fn fit(&mut self, terms: &FrameTerms, body: &BandedBody, floor_cm: DVec2) -> Option<Fit> {
+        let shift = DVec3::new(floor_cm.x, 0.0, floor_cm.y);
+        self.renderer.render_into(&body.body, shift, &mut self.silhouette);
+        if body.band_px <= 0.0 {
+            return terms.fit(&self.silhouette);
+        }
+        self.renderer.render_into(&body.widened, shift, &mut self.band_silhouette);
+        terms.fit_in_band(&self.silhouette, &self.band_silhouette, body.band_px)
+    }
+
+    /// The fit of `body` alone at `floor_cm` (no band).
+    fn plain_fit(&mut self, terms: &FrameTerms, body: &PosedBody, floor_cm: DVec2) -> Option<Fit> {
+        self.renderer.render_into(body, DVec3::new(floor_cm.x, 0.0, floor_cm.y), &mut self.silhouette);
+        terms.fit(&self.silhouette)
+    }
+}
+
 /// What the path search keeps of one frame.
 #[derive(Clone, Debug)]
 struct PathRecord {
     frame: PathFrame,
+    /// Its energies are deferred and have not come yet.
+    pending: bool,
     /// The suit's own step into this frame, as the forward filter took it.
     inertial_step_cm: DVec2,
     /// How uncertain the frame's fit was across the line of sight (cm²).

@@ -11,7 +11,8 @@ use crate::app::tracking::{NamedBytes, TrackingJob, VideoDescription};
 use crate::camera::Camera;
 use crate::io::container::{EncodedVideo, demux, nominal_fps};
 use crate::track::paper::PaperTrackParams;
-use crate::track::tracker::{FusedParams, TrackMethod};
+use crate::track::tracker::{FusedParams, PathRequest, TrackMethod};
+use glam::DVec2;
 
 /// One take being tracked in the page.
 #[wasm_bindgen]
@@ -83,6 +84,56 @@ impl CameraJob {
     pub fn push_luma(&mut self, luma: &[u8], stride: usize, full_range: bool) -> Result<Vec<f64>, JsError> {
         let p = self.job.push_luma(luma, stride, full_range).map_err(js_error)?;
         Ok(vec![p.floor_cm.x, p.floor_cm.y, p.confidence])
+    }
+
+    /// Leaves the path search's energies to a second job of the same take,
+    /// in another worker (see `Tracker::defer_path_energies`).
+    pub fn defer_path_energies(&mut self) {
+        self.job.defer_path_energies();
+    }
+
+    /// What the frame just tracked leaves to score, for the second job's
+    /// `score_path`: `[frame, prediction x, z (cm), truncation (px; NaN:
+    /// none), then x, z (cm) per candidate]`; `undefined` when nothing.
+    pub fn path_request(&mut self) -> Option<Vec<f64>> {
+        let r = self.job.take_path_request()?;
+        let mut out = vec![
+            r.frame as f64,
+            r.prediction_cm.x,
+            r.prediction_cm.y,
+            r.truncate_px.map_or(f64::NAN, f64::from),
+        ];
+        out.extend(r.candidates_cm.iter().flat_map(|p| [p.x, p.y]));
+        Some(out)
+    }
+
+    /// The energies of another job's `path_request`, from the same frame's
+    /// luma plane.
+    pub fn score_path(
+        &mut self,
+        request: &[f64],
+        luma: &[u8],
+        stride: usize,
+        full_range: bool,
+    ) -> Result<Vec<f64>, JsError> {
+        let [frame, x, z, truncate_px, candidates @ ..] = request else {
+            return Err(JsError::new("a path request of fewer than 4 numbers"));
+        };
+        if candidates.len() % 2 != 0 || !(frame.is_finite() && *frame >= 0.0) {
+            return Err(JsError::new("a path request that is not one"));
+        }
+        let request = PathRequest {
+            frame: *frame as usize,
+            prediction_cm: DVec2::new(*x, *z),
+            truncate_px: truncate_px.is_finite().then_some(*truncate_px as f32),
+            candidates_cm: candidates.chunks_exact(2).map(|c| DVec2::new(c[0], c[1])).collect(),
+        };
+        self.job.score_path(&request, luma, stride, full_range).map_err(js_error)
+    }
+
+    /// Hands back the energies of this job's request for `frame`.
+    pub fn set_path_energies(&mut self, frame: usize, energies: Vec<f64>) -> Result<(), JsError> {
+        self.job.set_path_energies(frame, energies).map_err(js_error)
     }
 
     /// Smooths the track and writes it (then read `recording_text`,

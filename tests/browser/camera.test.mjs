@@ -66,9 +66,11 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
   console.log(
     `walk.mp4 640×480 fused in the page: ${result.framesPerSecond.toFixed(1)} frames per second in all ` +
       `(${result.decodedInWorker ? "decoded in the worker" : `read by seeking (${result.whyNotDecoded})`}: ` +
-      `a frame read in ${result.readMsPerFrame.toFixed(1)} ms, tracked in ${result.trackMsPerFrame.toFixed(1)} ms)`,
+      `a frame read in ${result.readMsPerFrame.toFixed(1)} ms, tracked in ${result.trackMsPerFrame.toFixed(1)} ms, ` +
+      `its path search scored in ${result.scoreMsPerFrame.toFixed(1)} ms by a second worker; ${result.workers} workers)`,
   );
   assert.ok(result.decodedInWorker, `the worker did not decode the video: ${result.whyNotDecoded}`);
+  assert.equal(result.workers, 2, "the fused tracker's path search in a second worker");
   assert.equal(result.frames, 195);
   // With the truth given, the error is plotted and said: below the suit's
   // own 13.6 cm on walk.
