@@ -2,7 +2,8 @@
 //! `embusen calibrate` both make it: the still decoded to grey (as every
 //! still is, `io::image_file`), the board found (`camera::charuco`), the pose
 //! (and without a lens given, the focal length) fitted (`camera::calibrate`);
-//! and the floor grid drawn over a picture to check a camera by eye.
+//! and the floor grid drawn over a picture to check a camera by eye, and the
+//! camera drawn where it stands in the 3D view.
 
 use glam::{DVec2, DVec3};
 
@@ -103,4 +104,53 @@ pub fn floor_grid_px(camera: &Camera, spacing_cm: f64, half_extent_cm: f64) -> V
         }
     }
     lines
+}
+
+/// The camera as the 3D view draws it, a frustum: the lines (pairs of
+/// world points, cm) from its centre to where the image's four corners'
+/// rays are `depth_cm` ahead, and the rectangle between those four points.
+pub fn frustum_lines_cm(camera: &Camera, depth_cm: f64) -> Vec<[DVec3; 2]> {
+    let (w, h) = (camera.image_size.width_px as f64, camera.image_size.height_px as f64);
+    let world_from_camera = camera.world_from_camera();
+    let centre = world_from_camera.translation;
+    // The image's outer corners (pixel centres at 0 .. w − 1, so its edge
+    // is half a pixel beyond).
+    let corners = [(-0.5, -0.5), (w - 0.5, -0.5), (w - 0.5, h - 0.5), (-0.5, h - 0.5)].map(|(x, y)| {
+        let ray = camera.ray_in_camera(DVec2::new(x, y));
+        world_from_camera.transform_point3(ray * (depth_cm / ray.z))
+    });
+    let mut lines: Vec<[DVec3; 2]> = corners.iter().map(|&c| [centre, c]).collect();
+    lines.extend((0..4).map(|i| [corners[i], corners[(i + 1) % 4]]));
+    lines
+}
+
+#[cfg(test)]
+mod frustum_tests {
+    use super::*;
+
+    #[test]
+    fn the_frustum_reaches_from_the_centre_to_what_the_corners_see() {
+        use crate::camera::{Distortion, ImageSize, Intrinsics};
+        use glam::{DAffine3, DMat3};
+        // 5 m back and 1.5 m up, looking along −Z, tilted down a little.
+        let axes = DMat3::from_rotation_x(-0.3) * DMat3::from_cols(DVec3::X, DVec3::NEG_Y, DVec3::NEG_Z);
+        let camera = Camera {
+            image_size: ImageSize { width_px: 640, height_px: 480 },
+            intrinsics: Intrinsics { fx_px: 500.0, fy_px: 502.0, cx_px: 319.5, cy_px: 239.5 },
+            distortion: Distortion::default(),
+            camera_from_world: DAffine3::from_mat3_translation(axes, DVec3::new(20.0, 150.0, 500.0))
+                .inverse(),
+        };
+        let lines = frustum_lines_cm(&camera, 200.0);
+        assert_eq!(lines.len(), 8);
+        for [a, b] in &lines[..4] {
+            assert!((*a - camera.center_in_world()).length() < 1e-9);
+            let p = camera.point_in_camera(*b);
+            assert!((p.z - 200.0).abs() < 1e-6, "{p}");
+            let pixel = camera.point_in_image(*b).unwrap();
+            let (w, h) = (camera.image_size.width_px as f64, camera.image_size.height_px as f64);
+            assert!((pixel.x + 0.5).abs() < 1e-6 || (pixel.x - (w - 0.5)).abs() < 1e-6, "{pixel}");
+            assert!((pixel.y + 0.5).abs() < 1e-6 || (pixel.y - (h - 0.5)).abs() < 1e-6, "{pixel}");
+        }
+    }
 }

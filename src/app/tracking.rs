@@ -8,6 +8,7 @@
 
 use glam::{DVec2, DVec3};
 
+use crate::body::shape::BodyShape;
 use crate::camera::Camera;
 use crate::error::Error;
 use crate::eval::track::{TrackErrors, frame_errors_cm, track_errors};
@@ -216,6 +217,17 @@ impl TrackingJob {
             parse_hips_csv(text, truth.name)?.iter().map(|s| DVec2::new(s.hips_cm.x, s.hips_cm.z)).collect();
         let track_cm: Vec<DVec2> = track.frames.iter().map(|f| f.floor_cm).collect();
         Ok((frame_errors_cm(&track_cm, &truth_cm), track_errors(&track_cm, &truth_cm)))
+    }
+
+    /// Where the finished track puts the hips in each of the recording's
+    /// frames (cm, the recording's coordinates); none before `finish`.
+    pub fn tracked_hips_cm(&self) -> Vec<DVec3> {
+        self.track.as_ref().map_or(Vec::new(), |t| self.take.tracked_hips_cm(t, &self.take.setup.timing))
+    }
+
+    /// The body model the take is tracked with (as the 3D view draws it).
+    pub fn body_shape(&self) -> &BodyShape {
+        &self.take.setup.shape
     }
 
     /// The outer contour of the body (the tracker's model) where the

@@ -77,6 +77,14 @@ impl Take {
         Ok(Take { recording, setup, warnings })
     }
 
+    /// Where `track` (tracked with `timing`) puts the hips in each of the
+    /// recording's frames (its own coordinates, cm): the corrected
+    /// recording's hips, as the 3D view draws the camera's path.
+    pub fn tracked_hips_cm(&self, track: &Track, timing: &VideoTiming) -> Vec<DVec3> {
+        let shift = bvh_shift_cm(&self.recording, &self.setup.suit, timing, track);
+        shift.iter().enumerate().map(|(f, s)| self.recording.poses.at(f, self.setup.suit.hips) + *s).collect()
+    }
+
     /// The corrected recording and the hips CSV of `track`, tracked with
     /// `timing` (the take's own, or the one an offset estimate chose).
     pub fn export(&self, track: &Track, timing: &VideoTiming) -> TakeExport {

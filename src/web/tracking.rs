@@ -6,10 +6,12 @@
 
 use wasm_bindgen::prelude::*;
 
-use crate::app::calibration::floor_grid_px;
+use crate::app::calibration::{floor_grid_px, frustum_lines_cm};
 use crate::app::tracking::{NamedBytes, TrackingJob, VideoDescription};
+use crate::body::shape::BodyShape;
 use crate::camera::Camera;
 use crate::io::container::{EncodedVideo, demux, nominal_fps};
+use crate::io::recording::Recording;
 use crate::track::paper::PaperTrackParams;
 use crate::track::tracker::{FusedParams, PathRequest, TrackMethod};
 use glam::DVec2;
@@ -167,6 +169,18 @@ impl CameraJob {
         Ok(out)
     }
 
+    /// Where the finished track puts the hips in each of the recording's
+    /// frames: x, y, z (cm, the recording's coordinates) frame after frame.
+    pub fn tracked_hips_cm(&self) -> Vec<f64> {
+        self.job.tracked_hips_cm().iter().flat_map(|p| [p.x, p.y, p.z]).collect()
+    }
+
+    /// The body model the take is tracked with, as JSON (`BodyShape`):
+    /// what the player's 3D view draws solid.
+    pub fn body_shape_json(&self) -> Result<String, JsError> {
+        serde_json::to_string(self.job.body_shape()).map_err(js_error)
+    }
+
     /// The corrected recording (after `finish`).
     pub fn recording_text(&self) -> String {
         self.recording_text.clone()
@@ -252,4 +266,23 @@ pub fn floor_grid(
         out.extend([f64::NAN, f64::NAN]);
     }
     Ok(out)
+}
+
+/// The camera of `camera_json` as the 3D view draws it
+/// ([`frustum_lines_cm`]): per line its two ends, x, y, z (world cm) each.
+/// The error names the camera file.
+#[wasm_bindgen]
+pub fn camera_frustum(camera_name: &str, camera_json: &str, depth_cm: f64) -> Result<Vec<f64>, JsError> {
+    let camera = Camera::from_json(camera_json, camera_name).map_err(js_error)?;
+    Ok(frustum_lines_cm(&camera, depth_cm).iter().flatten().flat_map(|p| [p.x, p.y, p.z]).collect())
+}
+
+/// The body model `embusen track` builds for a recording (`BodyShape`, as
+/// JSON): the one a `CameraJob` of it tracks with. The error names the file.
+#[wasm_bindgen]
+pub fn body_shape_json(recording_name: &str, recording: &[u8]) -> Result<String, JsError> {
+    let recording = Recording::parse(recording, recording_name, None).map_err(js_error)?;
+    let shape = BodyShape::standard(&recording.joint_names, &recording.parents, recording.poses.frame(0))
+        .map_err(js_error)?;
+    serde_json::to_string(&shape).map_err(js_error)
 }
