@@ -93,6 +93,13 @@ const PANEL = `
     <button data-action="calibrate" disabled title="find the board in its still and calibrate the camera from it">Calibrate from board</button>
     <button data-action="export-camera" disabled title="download the camera as camera.json">⬇ camera.json</button>
   </div>
+  <fieldset class="camera-layers" title="what the tracker sees in the frame shown (while paused)">
+    <legend>over the video</legend>
+    <label><input type="checkbox" data-layer="distance"> distance to edges</label>
+    <label><input type="checkbox" data-layer="mask"> foreground mask</label>
+    <label><input type="checkbox" data-layer="edges"> edges</label>
+    <label><input type="checkbox" data-show="outline" checked> body outline</label>
+  </fieldset>
   <ul class="camera-inputs"></ul>
   <p class="camera-status" role="status"></p>
   <div class="camera-views"><div class="camera-video"><canvas class="camera-overlay"></canvas></div><canvas class="camera-top" width="320" height="240"></canvas></div>
@@ -134,6 +141,14 @@ export async function mountCameraTracking(element, options = {}) {
   let outlines = [];
   /** The floor grid over the video (x, y pixel after pixel, NaN between lines), of the camera it was made for. @type {{camera: NamedFile, px: number[]} | null} */
   let floorGrid = null;
+  /**
+   * The pipeline's stages of one frame as pictures (`FramePainter`), for the
+   * background they were made against; `reading` while a frame is read.
+   * @type {{background: NamedFile, painter: any, frame: number, images: Map<string, ImageBitmap>, reading: boolean} | null}
+   */
+  let layers = null;
+  const layerBoxes = /** @type {HTMLInputElement[]} */ (Array.from(element.querySelectorAll("[data-layer]")));
+  const outlineBox = /** @type {HTMLInputElement} */ ($('[data-show="outline"]'));
   /** @type {TrackResult | null} */
   let result = null;
   /** @type {Worker | null} */
@@ -264,6 +279,14 @@ export async function mountCameraTracking(element, options = {}) {
     }
     const grid = floorGrid.px;
     ctx.clearRect(0, 0, overlay.width, overlay.height);
+    const wanted = layerBoxes.filter((b) => b.checked).map((b) => /** @type {string} */ (b.dataset.layer));
+    if (wanted.length > 0 && video.paused) {
+      if (layers?.frame === shownFrame()) for (const name of wanted) {
+        const image = layers.images.get(name);
+        if (image) ctx.drawImage(image, 0, 0);
+      }
+      else void readLayers();
+    }
     ctx.strokeStyle = "rgba(255, 200, 40, 0.55)";
     ctx.lineWidth = 1;
     ctx.beginPath();
@@ -277,9 +300,44 @@ export async function mountCameraTracking(element, options = {}) {
     ctx.stroke();
     ctx.fillStyle = "#4ade80";
     for (let i = 0; i + 1 < corners.length; i += 2) ctx.fillRect(corners[i] - 1.5 + 0.5, corners[i + 1] - 1.5 + 0.5, 3, 3);
-    const outline = outlines[shownFrame()];
+    const outline = outlineBox.checked ? outlines[shownFrame()] : undefined;
     ctx.fillStyle = "#38bdf8";
     for (let i = 0; outline && i + 1 < outline.length; i += 2) ctx.fillRect(outline[i], outline[i + 1], 1, 1);
+  }
+
+  /**
+   * Reads the frame shown and makes its layers (the image pipeline run on
+   * it here, as the tracker runs it), then draws them. One frame at a time:
+   * the frame's exact read seeks the video, which asks for the overlay again.
+   */
+  async function readLayers() {
+    const { video, background } = inputs;
+    if (!video || !background || layers?.reading) return;
+    const frame = shownFrame();
+    try {
+      const m = await loadCameraModule();
+      if (layers?.background !== background) {
+        layers?.painter.free();
+        layers = { background, painter: new m.FramePainter(background.name, new Uint8Array(background.bytes)), frame: -1, images: new Map(), reading: false };
+      }
+      layers.reading = true;
+      const read = await frameAt(video.element, frame, video.fps);
+      layers.painter.set_frame(new Uint8Array(read.luma), read.stride, read.fullRange, `${video.name} frame ${frame}`);
+      const [w, h] = [video.element.videoWidth, video.element.videoHeight];
+      const images = new Map();
+      for (const b of layerBoxes) {
+        const name = /** @type {string} */ (b.dataset.layer);
+        images.set(name, await createImageBitmap(new ImageData(layers.painter.layer(name), w, h)));
+      }
+      layers.images = images;
+      layers.frame = frame;
+    } catch (e) {
+      say(e instanceof Error ? e.message : String(e), true);
+      for (const b of layerBoxes) b.checked = false;
+    } finally {
+      if (layers) layers.reading = false;
+    }
+    void drawOverlay();
   }
 
   /** The video frame the panel's video shows (frame i spans i/fps to (i+1)/fps). */
@@ -527,6 +585,7 @@ export async function mountCameraTracking(element, options = {}) {
     e.preventDefault();
     if (e.dataTransfer?.files) void open(e.dataTransfer.files);
   });
+  for (const box of [...layerBoxes, outlineBox]) box.addEventListener("change", () => void drawOverlay());
   trackButton.addEventListener("click", () => void track().catch(() => {}));
   cancelButton.addEventListener("click", cancel);
   calibrateButton.addEventListener("click", () => void calibrate().catch(() => {}));
@@ -561,10 +620,25 @@ export async function mountCameraTracking(element, options = {}) {
     outlineAt: (/** @type {number} */ i) => Array.from(outlines[i] ?? []),
     cancel,
     get result() { return result; },
+    /**
+     * Shows `names` ("mask", "edges", "distance") over the video, the others
+     * hidden; resolves when the frame shown has them drawn.
+     * @param {string[]} names
+     */
+    async showLayers(names) {
+      for (const b of layerBoxes) b.checked = names.includes(/** @type {string} */ (b.dataset.layer));
+      await drawOverlay();
+      while (names.length > 0 && (layers?.reading || layers?.frame !== shownFrame())) {
+        if (layers?.reading) await new Promise((ok) => setTimeout(ok, 20));
+        else await readLayers();
+      }
+    },
     destroy() {
       cancel();
       worker?.terminate();
       worker = null;
+      layers?.painter.free();
+      layers = null;
       if (inputs.video) closeVideo(inputs.video.element);
       element.replaceChildren();
       element.classList.remove("embusen-camera");

@@ -7,14 +7,17 @@
 use wasm_bindgen::prelude::*;
 
 use crate::app::calibration::{floor_grid_px, frustum_lines_cm};
+use crate::app::frame_layers::{FrameLayers, Layer, layer_rgba};
 use crate::app::tracking::{NamedBytes, TrackingJob, VideoDescription};
 use crate::body::shape::BodyShape;
 use crate::camera::Camera;
+use crate::image::pipeline::Features;
 use crate::io::container::{EncodedVideo, demux, nominal_fps};
 use crate::io::recording::Recording;
 use crate::track::paper::PaperTrackParams;
 use crate::track::tracker::{FusedParams, PathRequest, TrackMethod};
 use glam::DVec2;
+use wasm_bindgen::Clamped;
 
 /// One take being tracked in the page.
 #[wasm_bindgen]
@@ -285,4 +288,46 @@ pub fn body_shape_json(recording_name: &str, recording: &[u8]) -> Result<String,
     let shape = BodyShape::standard(&recording.joint_names, &recording.parents, recording.poses.frame(0))
         .map_err(js_error)?;
     serde_json::to_string(&shape).map_err(js_error)
+}
+
+/// A take's background, ready to paint what the tracker sees in a frame
+/// over the video ([`crate::app::frame_layers`]).
+#[wasm_bindgen]
+pub struct FramePainter {
+    layers: FrameLayers,
+    /// The pipeline's stages of the last frame given.
+    features: Option<Features>,
+}
+
+#[wasm_bindgen]
+impl FramePainter {
+    /// From the background still (PNG); the error names the file.
+    #[wasm_bindgen(constructor)]
+    pub fn new(background_name: &str, background: &[u8]) -> Result<FramePainter, JsError> {
+        Ok(FramePainter {
+            layers: FrameLayers::new(background_name, background).map_err(js_error)?,
+            features: None,
+        })
+    }
+
+    /// Runs the pipeline on a frame (its luma plane; `label` names it in
+    /// errors), for `layer` to paint.
+    pub fn set_frame(
+        &mut self,
+        luma: &[u8],
+        stride: usize,
+        full_range: bool,
+        label: &str,
+    ) -> Result<(), JsError> {
+        self.features = Some(self.layers.features(luma, stride, full_range, label).map_err(js_error)?);
+        Ok(())
+    }
+
+    /// `"mask"`, `"edges"` or `"distance"` of the last frame as RGBA pixels
+    /// (for an `ImageData` of the frame's size).
+    pub fn layer(&self, name: &str) -> Result<Clamped<Vec<u8>>, JsError> {
+        let layer = Layer::from_name(name).map_err(js_error)?;
+        let features = self.features.as_ref().ok_or_else(|| JsError::new("no frame given yet"))?;
+        Ok(Clamped(layer_rgba(features, layer)))
+    }
 }

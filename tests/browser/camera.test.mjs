@@ -88,6 +88,43 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
     v.currentTime = 100.5 / 30;
     return new Promise((ok) => v.addEventListener("seeked", () => setTimeout(ok, 300), { once: true }));
   });
+  // What the tracker sees in that frame, over the video: the foreground
+  // mask lies under the body's outline where the track puts it; the edges
+  // are a thin part of it; the distance to them covers the whole frame.
+  const layer = (name) =>
+    page.evaluate(async (name) => {
+      const panel = document.querySelector("#camera-panel");
+      panel.querySelector('[data-show="outline"]').checked = false;
+      await panel.embusenCamera.showLayers([name]);
+      const c = panel.querySelector(".camera-overlay");
+      const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
+      // The layer's own pixels: the grid's lines are yellow, and thin.
+      const painted = (i) => (name === "mask" ? d[i + 2] > 200 && d[i + 3] > 90 && d[i + 3] < 160
+        : name === "edges" ? d[i] > 200 && d[i + 1] < 120 && d[i + 3] === 255 : d[i + 3] >= 200);
+      const on = [];
+      for (let i = 0; i < d.length; i += 4) on.push(painted(i));
+      const outline = panel.embusenCamera.outlineAt(100);
+      let under = 0;
+      for (let k = 0; k < outline.length; k += 2) {
+        const [x, y] = [outline[k], outline[k + 1]];
+        let near = false;
+        for (let dy = -2; dy <= 2 && !near; dy++) for (let dx = -2; dx <= 2 && !near; dx++) near = on[(y + dy) * c.width + x + dx];
+        if (near) under++;
+      }
+      return { count: on.filter(Boolean).length, outline: outline.length / 2, under, total: c.width * c.height };
+    }, name);
+  const mask = await layer("mask");
+  assert.ok(mask.count > 2000 && mask.count < 40000, `foreground mask of ${mask.count} px`);
+  assert.ok(mask.under > 0.9 * mask.outline, `${mask.under} of ${mask.outline} outline pixels on the mask`);
+  const edges = await layer("edges");
+  assert.ok(edges.count > 200 && edges.count < mask.count, `edges of ${edges.count} px, mask ${mask.count}`);
+  const distance = await layer("distance");
+  assert.ok(distance.count > 0.95 * distance.total, `distance layer over ${distance.count} of ${distance.total} px`);
+  await page.evaluate(async () => {
+    const panel = document.querySelector("#camera-panel");
+    panel.querySelector('[data-show="outline"]').checked = true;
+    await panel.embusenCamera.showLayers(["mask", "edges"]);
+  });
   // Screenshots of the page with the take tracked, wide and narrow (to look at).
   mkdirSync(SCREENSHOTS, { recursive: true });
   const panel = page.locator("#camera");
