@@ -102,7 +102,9 @@ const PANEL = `
   </fieldset>
   <ul class="camera-inputs"></ul>
   <p class="camera-status" role="status"></p>
-  <div class="camera-views"><div class="camera-video"><canvas class="camera-overlay"></canvas></div><canvas class="camera-top" width="320" height="240"></canvas></div>
+  <div class="camera-views"><div class="camera-video"><canvas class="camera-overlay"></canvas></div><canvas class="camera-top" width="320" height="240"></canvas>
+    <canvas class="camera-candidates" width="240" height="240" hidden
+      title="the paper's 25 positions tried in the frame shown, by energy (green low, red high); ringed: the one it chose"></canvas></div>
   <canvas class="camera-plot" width="960" height="180" title="click to see that frame"></canvas>`;
 
 /**
@@ -160,6 +162,9 @@ export async function mountCameraTracking(element, options = {}) {
   };
   /** @type {Array<[number, number, number]>} */
   let path = [];
+  /** The paper's candidates per frame of the last track: positions (x, z cm), energies (px), the chosen one. @type {Array<{xz: number[], energies: number[], chosen: number}>} */
+  let candidates = [];
+  const candidatesCanvas = /** @type {HTMLCanvasElement} */ ($(".camera-candidates"));
 
   const say = (/** @type {string} */ text, /** @type {boolean} */ isError = false) => {
     status.textContent = text;
@@ -204,6 +209,7 @@ export async function mountCameraTracking(element, options = {}) {
         const follow = () => {
           void drawOverlay();
           drawPlot();
+          drawCandidates();
           if (!video.paused) video.requestVideoFrameCallback(follow);
         };
         video.addEventListener("seeked", follow);
@@ -452,6 +458,52 @@ export async function mountCameraTracking(element, options = {}) {
   }
 
   /**
+   * The paper's 25 candidates of the frame shown, where they lie on the
+   * floor around the last position (seen from above, x right, z down, as
+   * the top view), coloured by energy, the chosen one ringed.
+   */
+  function drawCandidates() {
+    const frame = candidates[shownFrame()];
+    candidatesCanvas.hidden = candidates.length === 0;
+    const ctx = candidatesCanvas.getContext("2d");
+    if (!ctx || candidatesCanvas.hidden) return;
+    const [w, h] = [candidatesCanvas.width, candidatesCanvas.height];
+    ctx.fillStyle = "#1e2126";
+    ctx.fillRect(0, 0, w, h);
+    ctx.fillStyle = "#9aa0aa";
+    if (!frame || frame.energies.length === 0) {
+      ctx.fillText("no candidates in this frame (no pose)", 10, h / 2);
+      return;
+    }
+    const finite = frame.energies.filter(Number.isFinite);
+    const [low, high] = [Math.min(...finite), Math.max(...finite)];
+    const [x0, z0] = [frame.xz[0], frame.xz[1]]; // the first is the last position
+    let reach = 1;
+    for (let k = 0; k < frame.energies.length; k++) reach = Math.max(reach, Math.abs(frame.xz[2 * k] - x0), Math.abs(frame.xz[2 * k + 1] - z0));
+    const scale = (Math.min(w, h - 40) / 2 - 14) / reach;
+    const [cx, cy] = [w / 2, (h - 40) / 2 + 8];
+    for (let k = 0; k < frame.energies.length; k++) {
+      const [x, y] = [cx + (frame.xz[2 * k] - x0) * scale, cy + (frame.xz[2 * k + 1] - z0) * scale];
+      const e = frame.energies[k];
+      const t = Number.isFinite(e) && high > low ? (e - low) / (high - low) : Number.isFinite(e) ? 0 : 1;
+      ctx.fillStyle = Number.isFinite(e) ? `rgb(${Math.round(74 + 174 * t)}, ${Math.round(222 - 109 * t)}, ${Math.round(128 - 15 * t)})` : "#555";
+      ctx.beginPath();
+      ctx.arc(x, y, 6, 0, 2 * Math.PI);
+      ctx.fill();
+      if (k === frame.chosen) {
+        ctx.strokeStyle = "#ffc828";
+        ctx.lineWidth = 2;
+        ctx.beginPath();
+        ctx.arc(x, y, 10, 0, 2 * Math.PI);
+        ctx.stroke();
+      }
+    }
+    ctx.fillStyle = "#9aa0aa";
+    ctx.fillText(`the paper's ${frame.energies.length} candidates, frame ${shownFrame()}`, 8, h - 24);
+    ctx.fillText(`energy ${low.toFixed(2)}–${high.toFixed(2)} px; ${scale > 0 ? (10 * scale).toFixed(0) : 0} px = 10 cm`, 8, h - 10);
+  }
+
+  /**
    * Tracks the open take; resolves with the result, rejects with the message
    * the page shows (the inputs are kept either way).
    * @returns {Promise<TrackResult>}
@@ -462,6 +514,8 @@ export async function mountCameraTracking(element, options = {}) {
     path = [];
     errors = null;
     result = null;
+    candidates = [];
+    drawCandidates();
     exportRecording.disabled = exportTrack.disabled = true;
     trackButton.disabled = true;
     cancelButton.disabled = false;
@@ -539,6 +593,19 @@ export async function mountCameraTracking(element, options = {}) {
         outlines.push(done.outlines.subarray(at + 1, at + 1 + 2 * n));
         at += 1 + 2 * n;
       }
+      candidates = [];
+      for (let at = 0; at < done.candidates.length; ) {
+        const [n, chosen] = [done.candidates[at], done.candidates[at + 1]];
+        const rows = done.candidates.subarray(at + 2, at + 2 + 3 * n);
+        candidates.push({
+          xz: Array.from({ length: 2 * n }, (_, k) => rows[3 * (k >> 1) + (k & 1)]),
+          energies: Array.from({ length: n }, (_, k) => rows[3 * k + 2]),
+          chosen,
+        });
+        at += 2 + 3 * n;
+      }
+      if (candidates.every((c) => c.energies.length === 0)) candidates = [];
+      drawCandidates();
       void drawOverlay();
       errors = done.errors ? done.errors.subarray(3) : null;
       drawPlot();
@@ -616,6 +683,8 @@ export async function mountCameraTracking(element, options = {}) {
     open,
     track,
     calibrate,
+    /** The paper's candidates of video frame `i` of the last track (none for `fused`). */
+    candidatesAt: (/** @type {number} */ i) => candidates[i] ?? null,
     /** The body's outline over video frame `i` where the last track puts it (x, y pixel after pixel). */
     outlineAt: (/** @type {number} */ i) => Array.from(outlines[i] ?? []),
     cancel,

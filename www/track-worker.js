@@ -13,6 +13,7 @@
 // {type: "progress", frame, x, z, confidence},
 // {type: "done", recording, csv, warnings, frames, msPerFrame, decodeMsPerFrame, scoreMsPerFrame,
 //  outlines: Uint32Array (per frame n, then n pixels x, y: the body where the track puts it),
+//  candidates: Float64Array (paper: per frame n, chosen, then n times x, z, energy; see CameraJob.paper_candidates),
 //  errors: Float64Array | null (with a truth: mean, p90, max, then per frame, cm), truthProblem},
 // {type: "error", message}.
 // After an error the worker takes nothing more: the page starts a new one.
@@ -228,7 +229,7 @@ async function finish() {
   /** @type {any} */ (self).postMessage({
     type: "done", recording: job.recording_text(), csv: job.track_csv(), warnings: job.warnings(), frames,
     msPerFrame: busyMs / Math.max(1, frames), decodeMsPerFrame: decodeMs / Math.max(1, frames),
-    scoreMsPerFrame: scoreMs / Math.max(1, frames), outlines,
+    scoreMsPerFrame: scoreMs / Math.max(1, frames), outlines, candidates: job.paper_candidates(),
     errors, truthProblem,
   }, [outlines.buffer]);
   job.free();

@@ -50,6 +50,15 @@ pub struct FrameProgress {
     pub confidence: f64,
 }
 
+/// The paper's search in one video frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PaperCandidates {
+    /// The positions tried (x, z, cm) with their energies (px).
+    pub tried: Vec<(DVec2, f64)>,
+    /// The index of the one chosen.
+    pub chosen: Option<usize>,
+}
+
 /// One take being tracked.
 pub struct TrackingJob {
     take: Take,
@@ -223,6 +232,22 @@ impl TrackingJob {
     /// frames (cm, the recording's coordinates); none before `finish`.
     pub fn tracked_hips_cm(&self) -> Vec<DVec3> {
         self.track.as_ref().map_or(Vec::new(), |t| self.take.tracked_hips_cm(t, &self.take.setup.timing))
+    }
+
+    /// The paper's candidates of each video frame of the finished track:
+    /// the 25 positions it tried (x, z, cm) with their energies (px), and
+    /// the index of the one it chose; none for the fused tracker, before
+    /// `finish`, or in a frame without a pose.
+    pub fn paper_candidates(&self) -> Vec<PaperCandidates> {
+        let Some(track) = &self.track else { return Vec::new() };
+        track
+            .frames
+            .iter()
+            .map(|f| PaperCandidates {
+                chosen: f.measured_cm.and_then(|m| f.candidates.iter().position(|(p, _)| *p == m)),
+                tried: f.candidates.clone(),
+            })
+            .collect()
     }
 
     /// The body model the take is tracked with (as the 3D view draws it).

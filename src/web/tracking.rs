@@ -178,6 +178,18 @@ impl CameraJob {
         self.job.tracked_hips_cm().iter().flat_map(|p| [p.x, p.y, p.z]).collect()
     }
 
+    /// The paper's candidates of each frame of the finished track: per
+    /// frame their count `n`, the index of the chosen one (−1: none), then
+    /// `n` times x, z (cm) and the energy (px). Counts of 0 for `fused`.
+    pub fn paper_candidates(&self) -> Vec<f64> {
+        let mut out = Vec::new();
+        for frame in self.job.paper_candidates() {
+            out.extend([frame.tried.len() as f64, frame.chosen.map_or(-1.0, |c| c as f64)]);
+            out.extend(frame.tried.iter().flat_map(|(p, e)| [p.x, p.y, *e]));
+        }
+        out
+    }
+
     /// The body model the take is tracked with, as JSON (`BodyShape`):
     /// what the player's 3D view draws solid.
     pub fn body_shape_json(&self) -> Result<String, JsError> {

@@ -137,6 +137,40 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
   await page.close();
 });
 
+test("the paper's tracker in the page: the CLI's bytes, and its 25 candidates per frame", async (t) => {
+  if (skipWithoutData(t)) return;
+  const scene = (s) => join(DATA, "optical", `walk${s}`);
+  const out = join(scratch, "walk.paper.bvh");
+  execFileSync(join(ROOT, "target/release/embusen"), [
+    "track", scene(".mp4"), "--bvh", scene(".suit.bvh"), "--camera", scene(".camera.json"),
+    "--background", scene(".background.png"), "--method", "paper", "-o", out,
+  ], { stdio: "pipe" });
+  const { page, errors } = await openTake(
+    "autoplay=0&video=/data/optical/walk.mp4&src=/data/optical/walk.suit.bvh&camera=/data/optical/walk.camera.json" +
+      "&background=/data/optical/walk.background.png",
+  );
+  const result = await page.evaluate(async () => {
+    const panel = document.querySelector("#camera-panel");
+    panel.querySelector('[data-setting="method"]').value = "paper";
+    const r = await panel.embusenCamera.track();
+    const v = panel.querySelector("video");
+    v.currentTime = 100.5 / 30;
+    await new Promise((ok) => v.addEventListener("seeked", () => setTimeout(ok, 300), { once: true }));
+    return { recording: r.recording, workers: r.workers, frame: panel.embusenCamera.candidatesAt(100),
+      shown: !panel.querySelector(".camera-candidates").hidden };
+  });
+  assert.ok(result.recording === readFileSync(out, "utf8"), "the page's paper-tracked BVH is not the CLI's");
+  assert.equal(result.workers, 1);
+  const { energies, chosen } = result.frame;
+  assert.equal(energies.length, 25);
+  const least = Math.min(...energies.filter(Number.isFinite));
+  assert.equal(chosen, energies.indexOf(least), `chose ${chosen}: ${energies}`);
+  assert.ok(result.shown, "the candidates' plot is shown");
+  await page.locator("#camera-panel .camera-candidates").screenshot({ path: join(SCREENSHOTS, "camera-paper-candidates.png") });
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
 test("every frame of a clip is read as itself, by its pixels, in H.264 and VP9", async () => {
   // 90 frames of 160×120 at 30 fps; frame i shows i in binary as 8 bars of
   // 20 px (white 1, black 0) over a grey field.
