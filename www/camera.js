@@ -26,6 +26,7 @@ import { closeVideo, frameAt, measureFps, openVideo } from "./video-frames.js";
  * @property {string} [truth] the true hips per video frame (CSV), to plot the track's error against
  * @property {"fused" | "paper"} [method]
  * @property {number} [offsetS] the time offset between video and BVH (s), as `embusen track --offset-s`
+ * @property {boolean} [estimateOffset] estimate the offset after tracking, as `embusen track --estimate-offset`
  */
 
 /**
@@ -42,6 +43,7 @@ import { closeVideo, frameAt, measureFps, openVideo } from "./video-frames.js";
  * @property {boolean} decodedInWorker whether the worker decoded the frames itself (WebCodecs)
  * @property {string | null} whyNotDecoded why not, when it did not
  * @property {{meanCm: number, p90Cm: number, maxCm: number} | null} truthErrors against the truth, when given
+ * @property {number} [offsetEstimateS] the time offset estimated after the track, when asked for
  */
 
 /** @typedef {{name: string, bytes: ArrayBuffer}} NamedFile */
@@ -85,6 +87,8 @@ const PANEL = `
     <label>method <select data-setting="method"><option value="fused">fused</option><option value="paper">paper</option></select></label>
     <label title="added to a video frame's time to read the BVH (embusen track --offset-s): positive when the BVH started first">offset
       <input data-setting="offset" type="number" step="0.01" value="0" style="width: 5em"> s</label>
+    <label title="after tracking, find the offset at which the suit's pose fits the video best (within 0.25 s; embusen track --estimate-offset)">
+      <input type="checkbox" data-setting="estimate-offset"> estimate it</label>
     <button data-action="track">Track</button>
     <button data-action="cancel" disabled>Cancel</button>
     <progress value="0" max="1"></progress>
@@ -124,12 +128,14 @@ export async function mountCameraTracking(element, options = {}) {
   const exportTrack = /** @type {HTMLButtonElement} */ ($('[data-action="export-track"]'));
   const methodSelect = /** @type {HTMLSelectElement} */ ($('[data-setting="method"]'));
   const offsetInput = /** @type {HTMLInputElement} */ ($('[data-setting="offset"]'));
+  const estimateOffset = /** @type {HTMLInputElement} */ ($('[data-setting="estimate-offset"]'));
   const top = /** @type {HTMLCanvasElement} */ ($(".camera-top"));
   const plot = /** @type {HTMLCanvasElement} */ ($(".camera-plot"));
   /** The track's error against the truth per frame (cm), when a truth was given. @type {Float64Array | null} */
   let errors = null;
   methodSelect.value = options.method ?? "fused";
   offsetInput.value = String(options.offsetS ?? 0);
+  estimateOffset.checked = Boolean(options.estimateOffset);
 
   const calibrateButton = /** @type {HTMLButtonElement} */ ($('[data-action="calibrate"]'));
   const exportCamera = /** @type {HTMLButtonElement} */ ($('[data-action="export-camera"]'));
@@ -556,6 +562,7 @@ export async function mountCameraTracking(element, options = {}) {
     let readMs = 0;
     try {
       const copy = (/** @type {NamedFile} */ f) => ({ name: f.name, bytes: f.bytes.slice(0) });
+      const offsetS = offsetInput.value.trim() === "" ? 0 : Number(offsetInput.value);
       const videoBytes = await video.file.arrayBuffer();
       w.postMessage({
         type: "open", recording: copy(recording), camera: copy(camera), background: copy(background),
@@ -563,7 +570,7 @@ export async function mountCameraTracking(element, options = {}) {
           name: video.name, width: video.element.videoWidth, height: video.element.videoHeight, fps: video.fps,
           frameCount: video.frameCount, bytes: videoBytes,
         },
-        method: methodSelect.value, offsetS: offsetInput.value.trim() === "" ? 0 : Number(offsetInput.value),
+        method: methodSelect.value, offsetS, estimateOffset: estimateOffset.checked,
         truth: inputs.truth ? copy(inputs.truth) : undefined,
       }, [videoBytes]);
       const opened = /** @type {any} */ (await reply("opened"));
@@ -617,11 +624,23 @@ export async function mountCameraTracking(element, options = {}) {
         truthErrors: done.errors ? { meanCm: done.errors[0], p90Cm: done.errors[1], maxCm: done.errors[2] } : null,
       };
       drawTop();
+      /** @type {string} */
+      let offsetSaid = done.offsetProblem ? `; ${done.offsetProblem}` : "";
+      if (done.offset) {
+        const estimate = done.offset[0];
+        result.offsetEstimateS = estimate;
+        offsetSaid = `; estimated offset: the BVH runs ${estimate.toFixed(3)} s ahead of the video`;
+        // Another frame's pose: worth tracking again (the CLI does it itself).
+        if (Math.abs(estimate - offsetS) * video.fps > 0.5) {
+          offsetInput.value = String(estimate);
+          offsetSaid += " (now in the offset field: track again to use it)";
+        }
+      }
       const truthSaid = result.truthErrors
         ? `; against ${inputs.truth?.name}: mean ${result.truthErrors.meanCm.toFixed(1)} cm, p90 ${result.truthErrors.p90Cm.toFixed(1)}, max ${result.truthErrors.maxCm.toFixed(1)}`
         : done.truthProblem ? `; ${done.truthProblem}` : "";
       say(`${methodSelect.value}: ${done.frames} frames tracked, ${result.framesPerSecond.toFixed(1)} frames per second` +
-        truthSaid + (done.warnings.length > 0 ? `; ${done.warnings.join("; ")}` : ""));
+        truthSaid + offsetSaid + (done.warnings.length > 0 ? `; ${done.warnings.join("; ")}` : ""));
       exportRecording.disabled = exportTrack.disabled = false;
       return result;
     } catch (e) {

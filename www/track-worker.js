@@ -6,7 +6,7 @@
 // once and in order; else the page sends them, read a seek each.
 // Messages in:
 //   {type: "open", recording, camera, background: {name, bytes},
-//    video: {name, width, height, fps, frameCount, bytes}, method, offsetS, truth?: {name, bytes}}
+//    video: {name, width, height, fps, frameCount, bytes}, method, offsetS, estimateOffset, truth?: {name, bytes}}
 //   {type: "frame", luma: ArrayBuffer, stride, fullRange}     (only when it does not decode)
 //   {type: "finish"}                                          (likewise)
 // Messages out: {type: "opened", decodes, why, fps, frameCount, warnings, workers (1 or 2)},
@@ -14,7 +14,8 @@
 // {type: "done", recording, csv, warnings, frames, msPerFrame, decodeMsPerFrame, scoreMsPerFrame,
 //  outlines: Uint32Array (per frame n, then n pixels x, y: the body where the track puts it),
 //  candidates: Float64Array (paper: per frame n, chosen, then n times x, z, energy; see CameraJob.paper_candidates),
-//  errors: Float64Array | null (with a truth: mean, p90, max, then per frame, cm), truthProblem},
+//  errors: Float64Array | null (with a truth: mean, p90, max, then per frame, cm), truthProblem,
+//  offset: Float64Array | undefined (estimateOffset: CameraJob.estimate_offset), offsetProblem},
 // {type: "error", message}.
 // After an error the worker takes nothing more: the page starts a new one.
 //
@@ -41,6 +42,8 @@ let busyMs = 0;
 let decodeMs = 0;
 /** The path scorer's time, summed over the frames it scored. */
 let scoreMs = 0;
+/** Whether the take's time offset is to be estimated after the track. */
+let estimating = false;
 /** The true hips per video frame (a CSV), when the page has them. @type {{name: string, bytes: ArrayBuffer} | null} */
 let truth = null;
 /** The worker's own postMessage (the DOM types only know the window's). @param {any} m */
@@ -160,6 +163,8 @@ async function handle(m) {
     const fps = demuxed ? demuxed.fps() : v.fps;
     const frameCount = demuxed ? demuxed.frame_count() : v.frameCount;
     job = openJob(m, fps, frameCount);
+    estimating = Boolean(m.estimateOffset);
+    if (estimating) job.keep_offset_samples();
     truth = m.truth ?? null;
     busyMs = decodeMs = scoreMs = 0;
     startScorer(m, fps, frameCount);
@@ -215,6 +220,18 @@ async function finish() {
   job.finish();
   busyMs += performance.now() - started;
   const outlines = job.outlines_px();
+  /** @type {Float64Array | undefined} */
+  let offset;
+  /** @type {string | null} */
+  let offsetProblem = null;
+  if (estimating) {
+    try {
+      offset = job.estimate_offset() ?? undefined;
+      if (!offset) offsetProblem = "the offset could not be estimated: no sampled frame had a pose to fit";
+    } catch (e) {
+      offsetProblem = e instanceof Error ? e.message : String(e);
+    }
+  }
   /** @type {Float64Array | null} */
   let errors = null;
   /** @type {string | null} */
@@ -230,7 +247,7 @@ async function finish() {
     type: "done", recording: job.recording_text(), csv: job.track_csv(), warnings: job.warnings(), frames,
     msPerFrame: busyMs / Math.max(1, frames), decodeMsPerFrame: decodeMs / Math.max(1, frames),
     scoreMsPerFrame: scoreMs / Math.max(1, frames), outlines, candidates: job.paper_candidates(),
-    errors, truthProblem,
+    errors, truthProblem, offset, offsetProblem,
   }, [outlines.buffer]);
   job.free();
   job = null;

@@ -16,6 +16,7 @@ use crate::image::GreyImage;
 use crate::io::hips_csv::parse_hips_csv;
 use crate::io::image_file::png_to_grey;
 use crate::io::recording::Recording;
+use crate::track::offset::{OFFSET_REACH_S, OffsetEstimate, estimate_offset_s, is_offset_sample};
 use crate::track::silhouette::SilhouetteRenderer;
 use crate::track::suit_motion::VideoTiming;
 use crate::track::take::{Take, TakeExport};
@@ -66,6 +67,9 @@ pub struct TrackingJob {
     tracker: Option<Tracker>,
     /// Scores other jobs' path requests (made when first asked).
     path_scorer: Option<PathScorer>,
+    /// The frames kept to estimate the time offset from, when asked to
+    /// ([`TrackingJob::keep_offset_samples`]): video frame index and frame.
+    offset_samples: Option<Vec<(usize, GreyImage)>>,
     /// The finished track, for the outlines.
     track: Option<Track>,
 }
@@ -106,6 +110,7 @@ impl TrackingJob {
             video_name: video_name.to_string(),
             tracker: Some(tracker),
             path_scorer: None,
+            offset_samples: None,
             track: None,
         })
     }
@@ -143,7 +148,33 @@ impl TrackingJob {
             return Err(Error::whole(&self.video_name, "the tracking has ended: open the take again"));
         };
         let tracked = tracker.push_frame(grey)?;
+        if let Some(samples) = &mut self.offset_samples
+            && is_offset_sample(frame, self.take.setup.timing.frame_count)
+        {
+            samples.push((frame, grey.clone()));
+        }
         Ok(FrameProgress { frame, floor_cm: tracked.floor_cm, confidence: tracked.confidence })
+    }
+
+    /// Keeps the frames the time offset is estimated from (as `embusen
+    /// track --estimate-offset` does: [`crate::track::offset`]), for
+    /// [`TrackingJob::estimate_offset`] after `finish`.
+    pub fn keep_offset_samples(&mut self) {
+        self.offset_samples.get_or_insert_with(Vec::new);
+    }
+
+    /// The offset between video and BVH at which the pose fits the kept
+    /// frames best, within [`OFFSET_REACH_S`] of the offset tracked with;
+    /// `None` when no kept frame had a pose to fit. An error before
+    /// `finish` or when no frames were kept.
+    pub fn estimate_offset(&self) -> Result<Option<OffsetEstimate>, Error> {
+        let (Some(track), Some(samples)) = (&self.track, &self.offset_samples) else {
+            return Err(Error::whole(
+                &self.video_name,
+                "to estimate the offset, keep its frames and track first",
+            ));
+        };
+        Ok(estimate_offset_s(&self.take.setup, track, samples, OFFSET_REACH_S))
     }
 
     /// Leaves the path search's energies to another job of the same take

@@ -15,6 +15,20 @@ use crate::track::search::coarse_to_fine;
 use crate::track::silhouette::SilhouetteRenderer;
 use crate::track::tracker::{FusedParams, Track, TrackSetup, fused_terms};
 
+/// How many frames of a take the offset is estimated from, spread evenly.
+pub const OFFSET_SAMPLES: usize = 60;
+
+/// How far from the offset given the estimate may go (s): under half the
+/// shortest stride, whose repeat would fit as well.
+pub const OFFSET_REACH_S: f64 = 0.25;
+
+/// Whether video frame `index` of a take of `frame_count` frames is one of
+/// the [`OFFSET_SAMPLES`] the offset is estimated from: every
+/// ⌈frame_count / OFFSET_SAMPLES⌉-th from the first.
+pub fn is_offset_sample(index: usize, frame_count: usize) -> bool {
+    index.is_multiple_of(frame_count.div_ceil(OFFSET_SAMPLES).max(1))
+}
+
 /// How far around each tracked position the fit is searched for each
 /// offset tried (cm): the positions were tracked at another offset, and a
 /// body out of step sits a little elsewhere.

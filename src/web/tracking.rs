@@ -178,6 +178,23 @@ impl CameraJob {
         self.job.tracked_hips_cm().iter().flat_map(|p| [p.x, p.y, p.z]).collect()
     }
 
+    /// Keeps the frames the time offset is estimated from (call before the
+    /// first frame), for `estimate_offset`.
+    pub fn keep_offset_samples(&mut self) {
+        self.job.keep_offset_samples();
+    }
+
+    /// After `finish`, as `embusen track --estimate-offset`: `[offset (s),
+    /// then per offset tried: offset (s), mean energy (px)]`, or
+    /// `undefined` when no kept frame had a pose to fit.
+    pub fn estimate_offset(&self) -> Result<Option<Vec<f64>>, JsError> {
+        Ok(self.job.estimate_offset().map_err(js_error)?.map(|e| {
+            let mut out = vec![e.offset_s];
+            out.extend(e.tried.iter().flat_map(|&(o, cost)| [o, cost]));
+            out
+        }))
+    }
+
     /// The paper's candidates of each frame of the finished track: per
     /// frame their count `n`, the index of the chosen one (−1: none), then
     /// `n` times x, z (cm) and the energy (px). Counts of 0 for `fused`.

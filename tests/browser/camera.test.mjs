@@ -171,6 +171,42 @@ test("the paper's tracker in the page: the CLI's bytes, and its 25 candidates pe
   await page.close();
 });
 
+test("the time offset is estimated in the page as embusen track --estimate-offset does", async (t) => {
+  if (skipWithoutData(t)) return;
+  const scene = (s) => join(DATA, "optical", `walk${s}`);
+  const out = join(scratch, "walk.offset.bvh");
+  // Told 0.15 s, which is wrong: the CLI estimates it, and tracks again at the estimate.
+  const said = execFileSync(join(ROOT, "target/release/embusen"), [
+    "track", scene(".mp4"), "--bvh", scene(".suit.bvh"), "--camera", scene(".camera.json"),
+    "--background", scene(".background.png"), "--offset-s", "0.15", "--estimate-offset", "-o", out,
+  ], { stdio: "pipe" }).toString();
+  const cli = Number(/the BVH runs (-?[\d.]+) s ahead/.exec(said)?.[1]);
+  const { page, errors } = await openTake(
+    "autoplay=0&video=/data/optical/walk.mp4&src=/data/optical/walk.suit.bvh&camera=/data/optical/walk.camera.json" +
+      "&background=/data/optical/walk.background.png",
+  );
+  const first = await page.evaluate(async () => {
+    const panel = document.querySelector("#camera-panel");
+    panel.querySelector('[data-setting="offset"]').value = "0.15";
+    panel.querySelector('[data-setting="estimate-offset"]').checked = true;
+    const r = await panel.embusenCamera.track();
+    return { estimate: r.offsetEstimateS, field: panel.querySelector('[data-setting="offset"]').value,
+      status: panel.querySelector(".camera-status").textContent };
+  });
+  assert.equal(first.estimate.toFixed(3), cli.toFixed(3), first.status);
+  assert.match(first.status, /estimated offset: the BVH runs -?[\d.]+ s ahead of the video \(now in the offset field/);
+  assert.equal(Number(first.field), first.estimate, "the estimate is in the offset field");
+  // Tracked again at it: the CLI's bytes.
+  const second = await page.evaluate(async () => {
+    const panel = document.querySelector("#camera-panel");
+    panel.querySelector('[data-setting="estimate-offset"]').checked = false;
+    return (await panel.embusenCamera.track()).recording;
+  });
+  assert.ok(second === readFileSync(out, "utf8"), "tracked at the estimate, the page's BVH is not the CLI's");
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
 test("every frame of a clip is read as itself, by its pixels, in H.264 and VP9", async () => {
   // 90 frames of 160×120 at 30 fps; frame i shows i in binary as 8 bars of
   // 20 px (white 1, black 0) over a grey field.

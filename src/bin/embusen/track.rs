@@ -15,7 +15,7 @@ use embusen::io::image_file::{ImageSequence, open_png_grey};
 use embusen::io::recording::Recording;
 use embusen::io::video::{Ffmpeg, VideoFrames, sample_frames};
 use embusen::signal::stats::median;
-use embusen::track::offset::estimate_offset_s;
+use embusen::track::offset::{OFFSET_REACH_S, estimate_offset_s, is_offset_sample};
 use embusen::track::paper::PaperTrackParams;
 use embusen::track::suit_motion::{SuitMotion, VideoTiming};
 use embusen::track::take::Take;
@@ -213,7 +213,7 @@ fn background(
 /// Runs the tracker over `frames`; the milliseconds per frame it took (not
 /// counting the decoding).
 fn run_tracker(setup: TrackSetup, frames: &mut Frames, progress: bool) -> Result<(Track, f64), Error> {
-    run_tracker_keeping(setup, frames, progress, 0).map(|(track, ms, _)| (track, ms))
+    run_tracker_keeping(setup, frames, progress, false).map(|(track, ms, _)| (track, ms))
 }
 
 /// A video frame kept, with its index.
@@ -225,10 +225,9 @@ fn run_tracker_keeping(
     setup: TrackSetup,
     frames: &mut Frames,
     progress: bool,
-    keep: usize,
+    keep_offset_samples: bool,
 ) -> Result<(Track, f64, Vec<Sample>), Error> {
     let count = frames.frame_count();
-    let every = if keep > 0 { count.div_ceil(keep).max(1) } else { usize::MAX };
     let mut kept = Vec::new();
     let mut tracker = Tracker::new(setup)?;
     let bar =
@@ -244,7 +243,7 @@ fn run_tracker_keeping(
         tracker.push_frame(&frame)?;
         busy_s += started.elapsed().as_secs_f64();
         let index = tracker.frame_count() - 1;
-        if index % every == 0 {
+        if keep_offset_samples && is_offset_sample(index, count) {
             kept.push((index, frame));
         }
         bar.inc(1);
@@ -300,9 +299,9 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
         eprintln!("warning: {w}");
     }
     let mut timing = session.setup.timing;
-    let keep = if args.estimate_offset { OFFSET_SAMPLES } else { 0 };
     let setup = session.setup.clone();
-    let (mut track, mut ms_per_frame, kept) = run_tracker_keeping(setup.clone(), &mut frames, true, keep)?;
+    let (mut track, mut ms_per_frame, kept) =
+        run_tracker_keeping(setup.clone(), &mut frames, true, args.estimate_offset)?;
     if args.estimate_offset {
         match estimate_offset_s(&setup, &track, &kept, OFFSET_REACH_S) {
             Some(estimate) => {
@@ -340,13 +339,6 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
     );
     Ok(())
 }
-
-/// How many frames the offset is estimated from.
-const OFFSET_SAMPLES: usize = 60;
-
-/// How far from the offset given the estimate may go (s): under half the
-/// shortest stride, whose repeat would fit as well.
-const OFFSET_REACH_S: f64 = 0.25;
 
 /// One scene's figures for one way of placing the hips.
 struct SceneRow {
