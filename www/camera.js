@@ -96,6 +96,11 @@ const PANEL = `
     <button data-action="export-track" disabled title="download the hips track with the camera's confidence">⬇ track CSV</button>
     <button data-action="calibrate" disabled title="find the board in its still and calibrate the camera from it">Calibrate from board</button>
     <button data-action="export-camera" disabled title="download the camera as camera.json">⬇ camera.json</button>
+    <span class="camera-corners" title="no board? click on the video the corners of a rectangle of known size on the floor">
+      <button data-action="click-corners" disabled>Click floor corners</button>
+      <label>rectangle <input data-setting="rectangle" value="200x150" size="7"> cm</label>
+      <label>focal <input data-setting="focal" placeholder="estimate" size="6"> px</label>
+    </span>
   </div>
   <fieldset class="camera-layers" title="what the tracker sees in the frame shown (while paused)">
     <legend>over the video</legend>
@@ -140,8 +145,15 @@ export async function mountCameraTracking(element, options = {}) {
   const calibrateButton = /** @type {HTMLButtonElement} */ ($('[data-action="calibrate"]'));
   const exportCamera = /** @type {HTMLButtonElement} */ ($('[data-action="export-camera"]'));
   const overlay = /** @type {HTMLCanvasElement} */ ($(".camera-overlay"));
-  /** (`camera.fromBoard`: calibrated here, so not a lens to calibrate another board with.) */
-  /** @type {{truth?: NamedFile, recording?: NamedFile, camera?: NamedFile & {fromBoard?: boolean}, background?: NamedFile, board?: NamedFile, boardLayout?: NamedFile, video?: {file: Blob, name: string, element: HTMLVideoElement, fps: number, frameCount: number}}} */
+  const cornersButton = /** @type {HTMLButtonElement} */ ($('[data-action="click-corners"]'));
+  const rectangleInput = /** @type {HTMLInputElement} */ ($('[data-setting="rectangle"]'));
+  const focalInput = /** @type {HTMLInputElement} */ ($('[data-setting="focal"]'));
+  /** The floor corners clicked so far (x, y video pixels), and whether clicks are taken. */
+  let clicked = /** @type {number[]} */ ([]);
+  let clicking = false;
+  const CORNER_NAMES = ["the origin", "along +x", "the far corner", "along +z"];
+  /** (`camera.calibratedHere`: calibrated here, from a board or clicks, so not a lens to calibrate a board with.) */
+  /** @type {{truth?: NamedFile, recording?: NamedFile, camera?: NamedFile & {calibratedHere?: boolean}, background?: NamedFile, board?: NamedFile, boardLayout?: NamedFile, video?: {file: Blob, name: string, element: HTMLVideoElement, fps: number, frameCount: number}}} */
   const inputs = {};
   /** The board's corners found in its still (pixels), drawn over the picture. @type {number[]} */
   let corners = [];
@@ -192,6 +204,7 @@ export async function mountCameraTracking(element, options = {}) {
         : []),
     ].join("");
     calibrateButton.disabled = !(inputs.board && inputs.boardLayout) || worker !== null;
+    cornersButton.disabled = !inputs.video || worker !== null;
     exportCamera.disabled = !inputs.camera;
     void drawOverlay();
     const missing = ["video", "recording", "camera", "background"].filter((k) => !(/** @type {any} */ (inputs))[k]);
@@ -269,8 +282,16 @@ export async function mountCameraTracking(element, options = {}) {
     const video = inputs.video?.element;
     const ctx = overlay.getContext("2d");
     if (!ctx) return;
-    if (!video || !inputs.camera) {
+    if (!video) {
       ctx.clearRect(0, 0, overlay.width, overlay.height);
+      return;
+    }
+    if (!inputs.camera) {
+      if (overlay.width !== video.videoWidth || overlay.height !== video.videoHeight) {
+        [overlay.width, overlay.height] = [video.videoWidth, video.videoHeight];
+      }
+      ctx.clearRect(0, 0, overlay.width, overlay.height);
+      drawClicked(ctx);
       return;
     }
     if (overlay.width !== video.videoWidth || overlay.height !== video.videoHeight) {
@@ -315,6 +336,64 @@ export async function mountCameraTracking(element, options = {}) {
     const outline = outlineBox.checked ? outlines[shownFrame()] : undefined;
     ctx.fillStyle = "#38bdf8";
     for (let i = 0; outline && i + 1 < outline.length; i += 2) ctx.fillRect(outline[i], outline[i + 1], 1, 1);
+    drawClicked(ctx);
+  }
+
+  /** The floor corners clicked, numbered in the order asked. @param {CanvasRenderingContext2D} ctx */
+  function drawClicked(ctx) {
+    ctx.strokeStyle = ctx.fillStyle = "#f472b6";
+    ctx.lineWidth = 2;
+    ctx.font = "bold 14px sans-serif";
+    for (let k = 0; k + 1 < clicked.length; k += 2) {
+      const [x, y] = [clicked[k] + 0.5, clicked[k + 1] + 0.5]; // pixel centres to canvas coordinates
+      ctx.beginPath();
+      ctx.arc(x, y, 6, 0, 2 * Math.PI);
+      ctx.stroke();
+      ctx.fillText(String(k / 2 + 1), x + 8, y - 8);
+    }
+  }
+
+  /** Starts (or, asked again, stops) taking the four floor corners' clicks on the video. */
+  function clickCorners() {
+    clicking = !clicking && Boolean(inputs.video);
+    clicked = [];
+    overlay.style.pointerEvents = clicking ? "auto" : "";
+    overlay.style.cursor = clicking ? "crosshair" : "";
+    cornersButton.textContent = clicking ? "Stop clicking" : "Click floor corners";
+    if (clicking) {
+      inputs.video?.element.pause();
+      say(`click corner 1 of 4 on the video: ${CORNER_NAMES[0]} (the rectangle's sides run along world +x, then +z)`);
+    }
+    void drawOverlay();
+  }
+
+  /**
+   * The camera from the four corners clicked (`embusen calibrate
+   * --floor-corners`); the take's camera when it works, the one before
+   * kept when not. Resolves with the figures said.
+   */
+  async function calibrateFromCorners() {
+    const video = inputs.video;
+    if (!video || clicked.length !== 8) throw new Error("click the four floor corners first");
+    try {
+      const size = /^\s*([\d.]+)\s*[x×]\s*([\d.]+)\s*$/.exec(rectangleInput.value);
+      if (!size) throw new Error(`the rectangle "${rectangleInput.value}": give its size as WIDTHxDEPTH in cm, e.g. 200x150`);
+      const focal = focalInput.value.trim() === "" ? undefined : Number(focalInput.value);
+      if (focal !== undefined && !(focal > 0)) throw new Error(`the focal length "${focalInput.value}": a number of pixels, or empty to estimate it`);
+      const m = await loadCameraModule();
+      const fit = m.calibrate_floor_corners(video.element.videoWidth, video.element.videoHeight, new Float64Array(clicked),
+        Number(size[1]), Number(size[2]), focal);
+      const outcome = { rmsPx: fit.rms_px(), centerSigmaCmPerPx: fit.center_sigma_cm_per_px(), focalPx: fit.focal_px(), camera: fit.camera_json(), cornersPx: [...clicked] };
+      fit.free();
+      inputs.camera = { name: "camera.json (from 4 floor corners)", bytes: new TextEncoder().encode(outcome.camera).buffer, calibratedHere: true };
+      showInputs();
+      say(`calibrated from 4 floor corners: reprojection error ${outcome.rmsPx.toFixed(2)} px (rms), focal length ` +
+        `${outcome.focalPx.toFixed(0)} px; a pixel of click error moves the camera ${outcome.centerSigmaCmPerPx.toFixed(1)} cm: check the grid`);
+      return outcome;
+    } catch (e) {
+      say(e instanceof Error ? e.message : String(e), true);
+      throw e;
+    }
   }
 
   /**
@@ -366,7 +445,7 @@ export async function mountCameraTracking(element, options = {}) {
    */
   async function calibrate() {
     const { board, boardLayout } = inputs;
-    const camera = inputs.camera?.fromBoard ? undefined : inputs.camera;
+    const camera = inputs.camera?.calibratedHere ? undefined : inputs.camera;
     if (!board || !boardLayout) throw new Error("open a still of the board and its layout (BOARD.json) first");
     try {
       say("finding the board…");
@@ -381,7 +460,7 @@ export async function mountCameraTracking(element, options = {}) {
       const outcome = { rmsPx: found.rms_px(), maxPx: found.max_px(), corners: corners.length / 2, camera: cameraJson };
       found.free();
       inputs.camera = {
-        name: `camera.json (from ${board.name})`, bytes: new TextEncoder().encode(cameraJson).buffer, fromBoard: true,
+        name: `camera.json (from ${board.name})`, bytes: new TextEncoder().encode(cameraJson).buffer, calibratedHere: true,
       };
       showInputs();
       say(`calibrated from ${board.name}: ${outcome.corners} corners, reprojection error ${outcome.rmsPx.toFixed(2)} px ` +
@@ -672,6 +751,27 @@ export async function mountCameraTracking(element, options = {}) {
     if (e.dataTransfer?.files) void open(e.dataTransfer.files);
   });
   for (const box of [...layerBoxes, outlineBox]) box.addEventListener("change", () => void drawOverlay());
+  /** Resolves with each calibration from clicks (for the handle). @type {((o: any) => void) | null} */
+  let cornersDone = null;
+  cornersButton.addEventListener("click", clickCorners);
+  overlay.addEventListener("click", (e) => {
+    if (!clicking || !inputs.video) return;
+    const rect = overlay.getBoundingClientRect();
+    // Canvas coordinates to pixel centres (the pixel (0, 0)'s centre is at 0.5, 0.5 of the canvas).
+    clicked.push((e.clientX - rect.left) * (overlay.width / rect.width) - 0.5, (e.clientY - rect.top) * (overlay.height / rect.height) - 0.5);
+    void drawOverlay();
+    if (clicked.length < 8) {
+      say(`click corner ${clicked.length / 2 + 1} of 4 on the video: ${CORNER_NAMES[clicked.length / 2]}`);
+      return;
+    }
+    const corners = clicked;
+    clickCorners(); // stops taking clicks
+    clicked = corners;
+    calibrateFromCorners().then((o) => cornersDone?.(o), (e) => cornersDone?.({ error: e.message }));
+  });
+  element.addEventListener("keydown", (e) => {
+    if (clicking && e.key === "Escape") (clickCorners(), say("the corners were not taken: the camera is as it was"));
+  });
   trackButton.addEventListener("click", () => void track().catch(() => {}));
   cancelButton.addEventListener("click", cancel);
   calibrateButton.addEventListener("click", () => void calibrate().catch(() => {}));
@@ -702,6 +802,8 @@ export async function mountCameraTracking(element, options = {}) {
     open,
     track,
     calibrate,
+    /** Resolves with the next calibration from clicked corners (its figures, or `{error}`). */
+    nextCornersCalibration: () => new Promise((ok) => (cornersDone = ok)),
     /** The paper's candidates of video frame `i` of the last track (none for `fused`). */
     candidatesAt: (/** @type {number} */ i) => candidates[i] ?? null,
     /** The body's outline over video frame `i` where the last track puts it (x, y pixel after pixel). */

@@ -10,7 +10,8 @@ use crate::app::calibration::{floor_grid_px, frustum_lines_cm};
 use crate::app::frame_layers::{FrameLayers, Layer, layer_rgba};
 use crate::app::tracking::{NamedBytes, TrackingJob, VideoDescription};
 use crate::body::shape::BodyShape;
-use crate::camera::Camera;
+use crate::camera::floor_rectangle::FloorCalibration;
+use crate::camera::{Camera, FloorRectangle, FocalLength, ImageSize};
 use crate::image::pipeline::Features;
 use crate::io::container::{EncodedVideo, demux, nominal_fps};
 use crate::io::recording::Recording;
@@ -358,5 +359,62 @@ impl FramePainter {
         let layer = Layer::from_name(name).map_err(js_error)?;
         let features = self.features.as_ref().ok_or_else(|| JsError::new("no frame given yet"))?;
         Ok(Clamped(layer_rgba(features, layer)))
+    }
+}
+
+/// The camera calibrated by hand from four clicked floor corners
+/// ([`crate::camera::floor_rectangle`]), as `embusen calibrate
+/// --floor-corners` makes it.
+#[wasm_bindgen]
+pub struct FloorCornersCalibration {
+    fit: FloorCalibration,
+}
+
+/// The camera of a `width_px × height_px` image in which the corners of a
+/// floor rectangle `width_cm` (along world +X) by `depth_cm` (along +Z) were
+/// clicked at `corners_px` (x, y four times: the origin, along +X, the far
+/// corner, along +Z; pixel centres at whole numbers), with a focal length
+/// (px) or, without one, the focal length estimated too. The error says
+/// what is wrong with the clicks.
+#[wasm_bindgen]
+pub fn calibrate_floor_corners(
+    width_px: u32,
+    height_px: u32,
+    corners_px: &[f64],
+    width_cm: f64,
+    depth_cm: f64,
+    focal_px: Option<f64>,
+) -> Result<FloorCornersCalibration, JsError> {
+    let [x0, y0, x1, y1, x2, y2, x3, y3] = corners_px else {
+        return Err(JsError::new(&format!("four corners (8 numbers), not {} numbers", corners_px.len())));
+    };
+    let corners = [(x0, y0), (x1, y1), (x2, y2), (x3, y3)].map(|(x, y)| DVec2::new(*x, *y));
+    let focal = focal_px.map_or(FocalLength::Unknown, FocalLength::Px);
+    let fit = FloorRectangle { width_cm, depth_cm }
+        .calibrate(ImageSize { width_px, height_px }, corners, focal)
+        .map_err(js_error)?;
+    Ok(FloorCornersCalibration { fit })
+}
+
+#[wasm_bindgen]
+impl FloorCornersCalibration {
+    /// The camera as camera.json (what `embusen calibrate` writes).
+    pub fn camera_json(&self) -> String {
+        self.fit.camera.to_json()
+    }
+
+    /// The clicks' reprojection error (px, root mean square).
+    pub fn rms_px(&self) -> f64 {
+        self.fit.reprojection_rms_px
+    }
+
+    /// How far (cm, one σ) a pixel of click error moves the camera centre.
+    pub fn center_sigma_cm_per_px(&self) -> f64 {
+        self.fit.center_sigma_cm_per_px
+    }
+
+    /// The focal length (px).
+    pub fn focal_px(&self) -> f64 {
+        self.fit.camera.intrinsics.fx_px
     }
 }

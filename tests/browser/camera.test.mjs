@@ -207,6 +207,71 @@ test("the time offset is estimated in the page as embusen track --estimate-offse
   await page.close();
 });
 
+/** Where the OpenCV camera of a camera.json sees world point `p` (cm): its pixel, through the lens. */
+function project(camera, p) {
+  const M = camera.camera_from_world;
+  const c = [0, 1, 2].map((r) => M[r][0] * p[0] + M[r][1] * p[1] + M[r][2] * p[2] + M[r][3]);
+  const [x, y] = [c[0] / c[2], c[1] / c[2]];
+  const { k1, k2, p1, p2, k3 } = camera.dist;
+  const r2 = x * x + y * y;
+  const radial = 1 + k1 * r2 + k2 * r2 * r2 + k3 * r2 * r2 * r2;
+  const xd = x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x);
+  const yd = y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y;
+  return [camera.K[0][0] * xd + camera.K[0][2], camera.K[1][1] * yd + camera.K[1][2]];
+}
+
+test("four floor corners clicked on the video make embusen calibrate --floor-corners's camera", async (t) => {
+  if (skipWithoutData(t)) return;
+  // No camera.json: the take's camera comes from the clicks.
+  const { page, errors } = await openTake("autoplay=0&video=/data/optical/walk.mp4&src=/data/optical/walk.suit.bvh");
+  const truth = JSON.parse(readFileSync(join(DATA, "optical/walk.camera.json"), "utf8"));
+  // A 150 × 100 cm rectangle at the world's origin, seen by the true camera.
+  const corners = [[0, 0, 0], [150, 0, 0], [150, 0, 100], [0, 0, 100]].map((p) => project(truth, p));
+  for (const [x, y] of corners) assert.ok(x > 0 && x < 639 && y > 0 && y < 479, `corner at ${x}, ${y} is in the picture`);
+  const overlay = page.locator("#camera-panel .camera-overlay");
+  await page.fill('#camera-panel [data-setting="rectangle"]', "150x100");
+  const clickAll = async () => {
+    await page.click('#camera-panel [data-action="click-corners"]');
+    await overlay.scrollIntoViewIfNeeded();
+    const box = await overlay.boundingBox();
+    const done = page.evaluate(() => Promise.race([
+      document.querySelector("#camera-panel").embusenCamera.nextCornersCalibration(),
+      new Promise((ok) => setTimeout(() => ok({ error: "no calibration 20 s after the clicks" }), 20000)),
+    ]));
+    for (const [x, y] of corners) {
+      await page.mouse.click(box.x + ((x + 0.5) * box.width) / 640, box.y + ((y + 0.5) * box.height) / 480);
+    }
+    return done;
+  };
+  // A rectangle that is no size: a message, nothing calibrated.
+  await page.fill('#camera-panel [data-setting="rectangle"]', "150 by 100");
+  const refused = await clickAll();
+  assert.match(refused.error, /the rectangle "150 by 100": give its size as WIDTHxDEPTH/);
+  assert.match(await page.textContent("#camera-panel .camera-inputs"), /camera \(camera\.json\): missing/);
+  await page.fill('#camera-panel [data-setting="rectangle"]', "150x100");
+  const fit = await clickAll();
+  assert.ok(!fit.error, fit.error);
+  const status = await page.textContent("#camera-panel .camera-status");
+  assert.match(status, /calibrated from 4 floor corners: reprojection error \d/, status);
+  assert.ok(fit.rmsPx < 1, `reprojection ${fit.rmsPx} px`);
+  const camera = JSON.parse(fit.camera);
+  const [a, b] = [camera.camera_center_world_cm, truth.camera_center_world_cm];
+  const off = Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+  console.log(`four clicked corners on walk: the camera centre ${off.toFixed(1)} cm from the true one ` +
+    `(no lens model; ${fit.centerSigmaCmPerPx.toFixed(1)} cm per pixel of click error), focal ${fit.focalPx.toFixed(0)} px (true ${truth.K[0][0].toFixed(0)})`);
+  assert.ok(off < 20, `the camera centre ${off.toFixed(1)} cm from the true one`);
+  // The CLI, given the same clicks, writes the same camera.json.
+  const out = join(scratch, "corners.camera.json");
+  execFileSync(join(ROOT, "target/release/embusen"), [
+    "calibrate", "--floor-corners", ...fit.cornersPx.reduce((acc, v, k) => (k % 2 ? (acc[acc.length - 1] += `,${v}`, acc) : [...acc, String(v)]), []),
+    "--rectangle-cm", "150x100", "--image-size", "640x480", "-o", out,
+  ], { stdio: "pipe" });
+  assert.ok(readFileSync(out, "utf8") === fit.camera, "the page's camera.json is not the CLI's");
+  assert.match(await page.textContent("#camera-panel .camera-inputs"), /camera \(camera\.json\): camera\.json \(from 4 floor corners\)/);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
 test("every frame of a clip is read as itself, by its pixels, in H.264 and VP9", async () => {
   // 90 frames of 160×120 at 30 fps; frame i shows i in binary as 8 bars of
   // 20 px (white 1, black 0) over a grey field.
