@@ -32,7 +32,18 @@ import init, { Player, options as playerOptions } from "./pkg/embusen.js";
  * @property {(files: FileList | File[]) => Promise<void>} open opens a BVH (+ its accelerometer CSV) or a table
  * @property {(src: string, accel?: string) => Promise<void>} openUrl
  * @property {Promise<void>} ready resolves when the first recording is open
+ * @property {(take: CameraTakeView) => boolean} showCameraTake shows a camera-tracked take of the open
+ *   recording in the 3D view; false when it cannot (the error box says why, and the view stays as it was)
+ * @property {() => void} clearCameraTake back to the recording alone
  * @property {() => void} destroy stops the player and releases its loop, observer, listeners and wasm memory
+ */
+
+/**
+ * A camera-tracked take of the open recording, as `Player.show_camera_take` takes it.
+ * @typedef {object} CameraTakeView
+ * @property {string} bodyShapeJson the body model (the camera module's `body_shape_json`)
+ * @property {ArrayLike<number>} cameraHipsCm x, y, z per frame of the recording (its coordinates, cm): the camera track's hips
+ * @property {ArrayLike<number>} frustumCm the camera: line segments, 6 numbers each (two ends x, y, z, cm; the camera module's `camera_frustum`)
  */
 
 /** The event the wasm module sends the window when it panics (src/web/panic.rs). */
@@ -82,6 +93,10 @@ const PLAYBACK_CONTROLS = `
   <label><input type="checkbox" data-action="follow"> follow</label>
   <label>original <select data-action="ghost"></select></label>`;
 
+/** The 3D view's legend of the floor paths (shown with a camera take), over the view's bottom left. */
+const LEGEND_STYLE = "position:absolute;left:8px;bottom:8px;padding:4px 8px;border-radius:4px;"
+  + "background:rgba(22,24,28,0.78);font-size:12px;line-height:1.5;pointer-events:none";
+
 /**
  * Each setting's control: its `data-setting`, the field of `Settings` it
  * sets, how it shows the field's value, and how it reads it back.
@@ -125,6 +140,7 @@ export async function mount(element, options = {}) {
   element.tabIndex = 0;
   element.innerHTML = `
     <div class="stage"><canvas class="view"></canvas>
+      <div class="legend" hidden style="${LEGEND_STYLE}"></div>
       <div class="loading" hidden>Loading…</div></div>
     <canvas class="plots"></canvas>
     <div class="error" role="alert" hidden></div>
@@ -146,6 +162,7 @@ export async function mount(element, options = {}) {
   const plots = get("canvas.plots", HTMLCanvasElement);
   const errorBox = get(".error", HTMLElement);
   const loadingBox = get(".loading", HTMLElement);
+  const legendBox = get(".legend", HTMLElement);
   const slider = get(".slider", HTMLInputElement);
   const readout = get(".readout", HTMLElement);
   const playButton = get("[data-action=play]", HTMLButtonElement);
@@ -253,6 +270,7 @@ export async function mount(element, options = {}) {
     if (destroyed) return;
     try {
       work();
+      legendBox.hidden = true; // a take belongs to the recording it was open with
       showError("");
       refresh();
     } catch (e) {
@@ -295,6 +313,34 @@ export async function mount(element, options = {}) {
     } catch (e) {
       showError(messageOf(e));
     }
+  };
+
+  // --- a camera-tracked take ------------------------------------------------------
+  legendBox.replaceChildren(...choices.take_legend.map(({ label, color_css }) => {
+    const row = document.createElement("div");
+    const swatch = document.createElement("span");
+    swatch.style.cssText = `display:inline-block;width:16px;height:4px;margin-right:6px;vertical-align:middle;background:${color_css}`;
+    row.append(swatch, label);
+    return row;
+  }));
+  /** @param {CameraTakeView} take */
+  const showCameraTake = ({ bodyShapeJson, cameraHipsCm, frustumCm }) => {
+    try {
+      player.show_camera_take(bodyShapeJson, Float64Array.from(cameraHipsCm), Float64Array.from(frustumCm));
+      legendBox.hidden = false;
+      showError("");
+      return true;
+    } catch (e) {
+      showError(messageOf(e)); // and the view stays as it was
+      return false;
+    } finally {
+      wake();
+    }
+  };
+  const clearCameraTake = () => {
+    player.clear_camera_take();
+    legendBox.hidden = true;
+    wake();
   };
 
   // --- size -------------------------------------------------------------------
@@ -559,7 +605,7 @@ export async function mount(element, options = {}) {
     frameRequest = requestAnimationFrame(loop);
   })();
   /** @type {Handle} */
-  const handle = { player, element, open, openUrl, ready, destroy };
+  const handle = { player, element, open, openUrl, ready, destroy, showCameraTake, clearCameraTake };
   /** @type {any} */ (element).embusen = handle;
   await ready;
   return handle;

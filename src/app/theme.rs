@@ -1,7 +1,7 @@
 //! Every colour the app paints, in the plots and in the 3D view, named by what
 //! it shows. Both views take them from here, so a thing looks alike in both:
 //! the left foot is one red, the corrected hips one yellow, the original hips
-//! one blue.
+//! one blue, the camera track one magenta.
 
 use crate::body::feet::PerFoot;
 
@@ -34,6 +34,9 @@ pub const CORRECTED: Rgba = Rgba(255, 200, 40, 255);
 /// The original (uncorrected) hips, blue: the top view's dashed path and the
 /// 3D view's trail.
 pub const ORIGINAL: Rgba = Rgba(90, 140, 255, 200);
+/// A camera-tracked take's hips, magenta: the 3D view's trail, the camera's
+/// frustum, and their legend entry.
+pub const CAMERA: Rgba = Rgba(236, 96, 226, 255);
 
 // --- The 3D view -----------------------------------------------------------------
 

@@ -13,7 +13,7 @@ use crate::app::session::{Session, Settings};
 use crate::io::recording::{FeetChoice, Recording};
 use crate::io::table::Accelerations;
 use crate::web::api::{Export, FootNames, Ghost, Info, Options, PlotPanel, SoleDepth};
-use crate::web::scene::{GhostMode, Scene};
+use crate::web::scene::{CameraTake, GhostMode, Scene};
 use crate::web::{api, canvas2d};
 
 /// The rate a video was recorded at, from one measured off its presented
@@ -148,17 +148,99 @@ impl Player {
         let session = Session::open(recording, settings).map_err(js_error)?;
         self.clock.set_recording(session.recording.frame_count(), session.recording.fps);
         self.session = Some(session);
+        // A take belongs to the recording it was tracked from.
+        self.scene.set_take(None);
         self.after_change();
         Ok(())
+    }
+
+    /// Shows a camera-tracked take of the open recording in the 3D view,
+    /// until [`Player::clear_camera_take`] or another recording: in place of
+    /// the corrected stick figure, the body model of `body_shape_json` (a
+    /// `BodyShape`, as the camera module's `body_shape_json` writes it)
+    /// solid, in frame `f` the recording's pose of `f` moved so that its
+    /// hips are at `camera_hips_cm` of `f` (x, y, z per frame, the
+    /// recording's own coordinates, cm; a frame with a non-finite one shows
+    /// no body); the camera as `frustum_cm`, line segments of six numbers
+    /// each (two ends, x, y, z, in the recording's coordinates, cm); and the
+    /// camera track's floor path beside the suit's and the inertial
+    /// estimate's. The floor and the view's framing take in the track and
+    /// the camera. On error (no recording open, a length that does not fit,
+    /// a shape that is not JSON or is of another skeleton) nothing shown
+    /// changes.
+    pub fn show_camera_take(
+        &mut self,
+        body_shape_json: &str,
+        camera_hips_cm: &[f64],
+        frustum_cm: &[f64],
+    ) -> Result<(), JsError> {
+        let session = self.open_session()?;
+        let frames = session.recording.frame_count();
+        if camera_hips_cm.len() != 3 * frames {
+            return Err(js_error(format!(
+                "the camera track has {} numbers for a recording of {frames} frames: expected x, y, z per frame, {}",
+                camera_hips_cm.len(),
+                3 * frames
+            )));
+        }
+        if !frustum_cm.len().is_multiple_of(6) {
+            return Err(js_error(format!(
+                "the camera frustum has {} numbers: expected 6 per line (two ends, x, y, z each)",
+                frustum_cm.len()
+            )));
+        }
+        let shape = api::body_shape_from_json(body_shape_json).map_err(js_error)?;
+        let joints = session.recording.joint_names.len();
+        if shape.joint_count != joints {
+            return Err(js_error(format!(
+                "the body shape is of a skeleton of {} joints, the recording {} has {joints}",
+                shape.joint_count, session.recording.name
+            )));
+        }
+        if let Some(&(a, b)) = shape.links.iter().find(|&&(a, b)| a.max(b) >= shape.spheres.len()) {
+            return Err(js_error(format!(
+                "the body shape links spheres {a} and {b}, but has {}",
+                shape.spheres.len()
+            )));
+        }
+        // Every sphere hangs on a joint of the recording's poses.
+        if frames > 0 {
+            shape.pose(session.recording.poses.frame(0), glam::DVec3::ZERO).map_err(js_error)?;
+        }
+        let point = |p: &[f64]| glam::DVec3::new(p[0], p[1], p[2]);
+        let take = CameraTake {
+            shape,
+            hips_cm: camera_hips_cm.chunks_exact(3).map(point).collect(),
+            frustum_cm: frustum_cm.chunks_exact(6).map(|l| [point(&l[..3]), point(&l[3..])]).collect(),
+        };
+        self.scene.set_take(Some(take));
+        self.restage();
+        Ok(())
+    }
+
+    /// Back to the recording alone.
+    pub fn clear_camera_take(&mut self) {
+        if self.scene.has_take() {
+            self.scene.set_take(None);
+            self.restage();
+        }
+    }
+
+    /// The scene's trails, floor and framing made again for the session and
+    /// the take, and the frame drawn anew (the plots do not show the take).
+    fn restage(&mut self) {
+        if let Some(s) = &self.session {
+            let up_is_z = s.recording.up_axis_is_z();
+            self.scene.set_recording(&s.recording.poses, &s.translated.poses, s.translated.hips, up_is_z);
+        }
+        self.drawn_frame = None;
+        self.scene_dirty = true;
     }
 
     /// After a new recording or new settings: the scene's trails and framing,
     /// and the static plots, follow the session.
     fn after_change(&mut self) {
-        if let Some(s) = &self.session {
-            let up_is_z = s.recording.up_axis_is_z();
-            self.scene.set_recording(&s.recording.poses, &s.translated.poses, s.translated.hips, up_is_z);
-        }
+        self.restage();
         self.repaint_all();
     }
 

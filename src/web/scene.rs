@@ -6,11 +6,18 @@
 //! texture, and the hips trails as ribbons of two triangles a segment. (Trails
 //! of cylinders and grid lines of cylinders cost software WebGL ~150 ms a frame.) Positions arrive in the recording's
 //! centimetres and are drawn in metres, turned upright by `world_from_recording`.
+//!
+//! A camera-tracked take ([`CameraTake`]) replaces the corrected stick figure
+//! with the body model, solid, at the camera track's hips (one mesh, rebuilt
+//! when the frame changes), draws the camera's frustum (eight thin
+//! cylinders), and adds the camera track's floor path.
 
+use glam::DVec3;
 use three_d::*;
 
 use crate::app::theme::{self, Rgba};
 use crate::body::feet::Foot;
+use crate::body::shape::BodyShape;
 use crate::body::skeleton::Poses;
 
 /// How the original (uncorrected) skeleton is shown.
@@ -34,6 +41,22 @@ const TRAIL_HALF_WIDTH_M: f32 = 0.012;
 
 /// Grid spacing on the floor.
 const GRID_CELL_M: f32 = 0.5;
+/// Meridians of each sphere and sides of each cone of the solid body: round
+/// enough, and a few thousand triangles that software WebGL draws at once.
+const BODY_SEGMENTS: u32 = 10;
+/// The camera frustum's lines, as cylinders of this radius.
+const FRUSTUM_RADIUS_M: f32 = 0.012;
+
+/// A camera-tracked take of the open recording, as the view shows it.
+pub struct CameraTake {
+    /// The body model, posed each frame at the camera track's hips.
+    pub shape: BodyShape,
+    /// Where the camera track puts the hips joint, per frame of the
+    /// recording (its own coordinates, cm); a non-finite one draws no body.
+    pub hips_cm: Vec<DVec3>,
+    /// The camera's frustum: line segments, both ends in recording cm.
+    pub frustum_cm: Vec<[DVec3; 2]>,
+}
 
 /// A theme colour as three-d takes it.
 const fn srgba(Rgba(r, g, b, a): Rgba) -> Srgba {
@@ -83,15 +106,43 @@ pub struct Scene {
     sun: DirectionalLight,
     /// Sideways offset of the ghost in side-by-side mode (m).
     side_offset: Vec3,
+    /// The camera-tracked take shown, if any, and what draws it: its solid
+    /// body (of frame `body_frame`, shown when that frame has one) and the
+    /// camera's frustum.
+    take: Option<CameraTake>,
+    body: Gm<Mesh, PhysicalMaterial>,
+    body_frame: Option<usize>,
+    body_shown: bool,
+    frustum: Gm<InstancedMesh, PhysicalMaterial>,
 }
 
-fn material(context: &Context, color: Srgba, transparent: bool) -> PhysicalMaterial {
-    let cpu = CpuMaterial { albedo: color, roughness: 0.7, metallic: 0.0, ..Default::default() };
+/// How a material draws: a transparent one blended, leaving the depth buffer alone.
+fn render_states(transparent: bool) -> RenderStates {
     if transparent {
-        PhysicalMaterial::new_transparent(context, &cpu)
+        RenderStates { write_mask: WriteMask::COLOR, blend: Blend::TRANSPARENCY, ..Default::default() }
     } else {
-        PhysicalMaterial::new_opaque(context, &cpu)
+        RenderStates::default()
     }
+}
+
+/// A lit material of one colour. The materials are built field by field as
+/// three-d's constructors from a `CpuMaterial` build them (the same light
+/// model and render states): those bring its code to upload a texture of
+/// any pixel format, ~3 KB gzipped of the player's download.
+fn material(color: Srgba, transparent: bool) -> PhysicalMaterial {
+    PhysicalMaterial {
+        albedo: color,
+        roughness: 0.7,
+        metallic: 0.0,
+        render_states: render_states(transparent),
+        is_transparent: transparent,
+        ..Default::default()
+    }
+}
+
+/// A material of one colour, unlit (times the vertex colours, when the mesh has them).
+fn flat(color: Srgba, texture: Option<Texture2DRef>, transparent: bool) -> ColorMaterial {
+    ColorMaterial { color, texture, render_states: render_states(transparent), is_transparent: transparent }
 }
 
 fn instanced(
@@ -100,7 +151,7 @@ fn instanced(
     color: Srgba,
     transparent: bool,
 ) -> Gm<InstancedMesh, PhysicalMaterial> {
-    Gm::new(InstancedMesh::new(context, &Instances::default(), mesh), material(context, color, transparent))
+    Gm::new(InstancedMesh::new(context, &Instances::default(), mesh), material(color, transparent))
 }
 
 /// A cylinder from `a` to `b` of radius `r` (three-d's unit cylinder runs
@@ -137,19 +188,26 @@ fn add_ribbon(mesh: &mut CpuMesh, points: &[Vec3], color: Srgba) {
 }
 
 /// One grid cell as a texture: a line along two edges, transparent inside;
-/// repeated across the floor quad by its texture coordinates.
-fn grid_cell() -> CpuTexture {
+/// repeated across the floor quad by its texture coordinates. Its texels are
+/// linear sRGB, as three-d's shaders read them.
+fn grid_cell(context: &Context) -> Texture2DRef {
     const SIZE: usize = 64;
     let Rgba(r, g, b, a) = theme::FLOOR_GRID;
-    let data = (0..SIZE * SIZE)
-        .map(|i| if i % SIZE < 2 || i / SIZE < 2 { [r, g, b, a] } else { [0, 0, 0, 0] })
-        .collect();
-    CpuTexture {
-        data: TextureData::RgbaU8(data),
-        width: SIZE as u32,
-        height: SIZE as u32,
-        ..Default::default()
-    }
+    let line: [u8; 4] = Srgba::from(Srgba::new(r, g, b, a).to_linear_srgb()).into();
+    let data: Vec<[u8; 4]> =
+        (0..SIZE * SIZE).map(|i| if i % SIZE < 2 || i / SIZE < 2 { line } else { [0, 0, 0, 0] }).collect();
+    let texture = Texture2D::new_empty::<[u8; 4]>(
+        context,
+        SIZE as u32,
+        SIZE as u32,
+        Interpolation::Linear,
+        Interpolation::Linear,
+        Some(Mipmap::default()),
+        Wrapping::Repeat,
+        Wrapping::Repeat,
+    );
+    texture.fill(&data);
+    Texture2DRef::from_texture(texture)
 }
 
 impl Scene {
@@ -165,26 +223,23 @@ impl Scene {
             0.05,
             500.0,
         );
-        let trails = Gm::new(
-            Mesh::new(&context, &CpuMesh::square()),
-            ColorMaterial::new_opaque(&context, &CpuMaterial { albedo: Srgba::WHITE, ..Default::default() }),
-        );
+        let trails = Gm::new(Mesh::new(&context, &CpuMesh::square()), flat(Srgba::WHITE, None, false));
         let grid = Gm::new(
             Mesh::new(&context, &CpuMesh::square()),
-            ColorMaterial::new_transparent(
-                &context,
-                &CpuMaterial {
-                    albedo: Srgba::WHITE,
-                    albedo_texture: Some(grid_cell()),
-                    ..Default::default()
-                },
-            ),
+            flat(Srgba::WHITE, Some(grid_cell(&context)), true),
         );
         Scene {
             joints: instanced(&context, &sphere, srgba(theme::CORRECTED_SKELETON), false),
             bones: instanced(&context, &cylinder, srgba(theme::CORRECTED_SKELETON), false),
             ghost_joints: instanced(&context, &sphere, srgba(theme::ORIGINAL_SKELETON), true),
             ghost_bones: instanced(&context, &cylinder, srgba(theme::ORIGINAL_SKELETON), true),
+            frustum: instanced(&context, &cylinder, srgba(theme::CAMERA), false),
+            body: Gm::new(
+                Mesh::new(&context, &CpuMesh::square()),
+                material(srgba(theme::CORRECTED_SKELETON), false),
+            ),
+            body_frame: None,
+            body_shown: false,
             trails,
             grid,
             hips: 0,
@@ -196,13 +251,31 @@ impl Scene {
             ghost_mode: GhostMode::Overlay,
             world_from_recording: Mat4::identity(),
             side_offset: vec3(1.2, 0.0, 0.0),
+            take: None,
             context,
         }
     }
 
-    fn to_world(&self, p_cm: glam::DVec3) -> Vec3 {
+    fn to_world(&self, p_cm: DVec3) -> Vec3 {
         let p = vec3(p_cm.x as f32, p_cm.y as f32, p_cm.z as f32) * CM_TO_M;
         (self.world_from_recording * p.extend(1.0)).truncate()
+    }
+
+    /// A direction of the recording (a normal) in the world: turned, not scaled.
+    fn direction_to_world(&self, d: glam::Vec3) -> Vec3 {
+        (self.world_from_recording * vec3(d.x, d.y, d.z).extend(0.0)).truncate()
+    }
+
+    /// Shows `take` (or none) from the next [`Scene::set_recording`] on,
+    /// which must follow: its paths and camera join the floor and the framing.
+    pub fn set_take(&mut self, take: Option<CameraTake>) {
+        self.take = take;
+        self.body_frame = None;
+    }
+
+    /// Whether a camera-tracked take is shown.
+    pub fn has_take(&self) -> bool {
+        self.take.is_some()
     }
 
     /// Prepares the static parts for a new recording: up axis, floor grid,
@@ -213,6 +286,13 @@ impl Scene {
             if up_is_z { Mat4::from_angle_x(degrees(-90.0)) } else { Mat4::identity() };
         let hips_before: Vec<Vec3> = original.trajectory(hips).iter().map(|p| self.to_world(*p)).collect();
         let hips_after: Vec<Vec3> = corrected.trajectory(hips).iter().map(|p| self.to_world(*p)).collect();
+        let hips_camera: Vec<Vec3> = self
+            .take
+            .as_ref()
+            .map_or_else(Vec::new, |t| t.hips_cm.iter().map(|p| self.to_world(*p)).collect());
+        let frustum: Vec<[Vec3; 2]> = self.take.as_ref().map_or_else(Vec::new, |t| {
+            t.frustum_cm.iter().map(|[a, b]| [self.to_world(*a), self.to_world(*b)]).collect()
+        });
         // Floor height: the lowest joint of the corrected recording's first frame.
         let floor_y = corrected
             .frame(0)
@@ -222,7 +302,8 @@ impl Scene {
             .clamp(-10.0, 0.0);
         let (mut min, mut max) =
             (vec3(f32::INFINITY, 0.0, f32::INFINITY), vec3(f32::NEG_INFINITY, 0.0, f32::NEG_INFINITY));
-        for p in hips_before.iter().chain(&hips_after) {
+        // The paths, and the camera: the floor reaches under it, the view frames it.
+        for p in hips_before.iter().chain(&hips_after).chain(&hips_camera).chain(frustum.iter().flatten()) {
             if p.x.is_finite() && p.z.is_finite() {
                 min = vec3(min.x.min(p.x), 0.0, min.z.min(p.z));
                 max = vec3(max.x.max(p.x), 0.0, max.z.max(p.z));
@@ -250,13 +331,19 @@ impl Scene {
         self.grid.geometry = Mesh::new(&self.context, &quad);
         let mut ribbons =
             CpuMesh { positions: Positions::F32(Vec::new()), colors: Some(Vec::new()), ..Default::default() };
-        for (trail, color) in [(&hips_before, theme::ORIGINAL), (&hips_after, theme::CORRECTED)] {
+        // Each trail a millimetre above the one before, so that where they
+        // cross the later one shows, not whichever the depth test picks.
+        for (trail, color, above_floor_m) in [
+            (&hips_before, theme::ORIGINAL, 0.003),
+            (&hips_after, theme::CORRECTED, 0.004),
+            (&hips_camera, theme::CAMERA, 0.005),
+        ] {
             let stride = (trail.len() / MAX_TRAIL_SEGMENTS).max(1);
             let points: Vec<Vec3> = trail
                 .iter()
                 .step_by(stride)
                 .filter(|p| p.x.is_finite() && p.z.is_finite())
-                .map(|p| vec3(p.x, floor_y + 0.003, p.z))
+                .map(|p| vec3(p.x, floor_y + above_floor_m, p.z))
                 .collect();
             add_ribbon(&mut ribbons, &points, srgba(color));
         }
@@ -269,10 +356,21 @@ impl Scene {
         self.orbit.distance_m = extent * 1.1 + 2.0;
         let height = hips_after.first().map_or(1.0, |h| h.y - floor_y);
         self.side_offset = vec3(height.clamp(0.5, 2.0) * 1.2, 0.0, 0.0);
+        let finite = |p: &Vec3| p.x.is_finite() && p.y.is_finite() && p.z.is_finite();
+        let lines = frustum
+            .iter()
+            .filter(|[a, b]| finite(a) && finite(b))
+            .map(|[a, b]| segment(*a, *b, FRUSTUM_RADIUS_M))
+            .collect();
+        self.frustum.set_instances(&Instances { transformations: lines, ..Default::default() });
+        self.body_frame = None;
     }
 
     /// Moves the skeletons to frame `f`, highlighting the pinned foot: its
-    /// joint, and which foot it is.
+    /// joint, and which foot it is. With a take, the corrected skeleton's
+    /// place is the solid body's: the original pose moved by the camera
+    /// track's hips less the original's (its mesh made again only when `f`
+    /// is not the frame it was made for).
     pub fn set_frame(
         &mut self,
         original: &Poses,
@@ -281,12 +379,25 @@ impl Scene {
         f: usize,
         pinned: Option<(usize, Foot)>,
     ) {
-        if f >= corrected.frame_count() {
+        if f >= corrected.frame_count() || f >= original.frame_count() {
             return;
         }
-        let solid: Vec<Vec3> = corrected.frame(f).iter().map(|p| self.to_world(*p)).collect();
-        let (joints, bones) = self.skeleton_instances(&solid, parents, Vec3::new(0.0, 0.0, 0.0));
-        let mut joints = joints;
+        // Where the body is drawn: the corrected pose, or the take's (none in
+        // a frame the camera track has no hips for).
+        let take_shift_cm = self.take.as_ref().map(|take| {
+            let tracked_cm = take.hips_cm.get(f).copied().unwrap_or(DVec3::NAN);
+            let hips_cm = original.frame(f).get(self.hips).copied().unwrap_or(DVec3::NAN);
+            Some(tracked_cm - hips_cm).filter(|shift| shift.is_finite())
+        });
+        let solid: Vec<Vec3> = match take_shift_cm {
+            None => corrected.frame(f).iter().map(|p| self.to_world(*p)).collect(),
+            Some(Some(shift_cm)) => original.frame(f).iter().map(|p| self.to_world(*p + shift_cm)).collect(),
+            Some(None) => Vec::new(),
+        };
+        let (mut joints, bones) = match take_shift_cm {
+            None => self.skeleton_instances(&solid, parents, Vec3::new(0.0, 0.0, 0.0)),
+            Some(_) => (Vec::new(), Vec::new()),
+        };
         let mut colors = vec![srgba(theme::CORRECTED_SKELETON); joints.len()];
         if let Some((joint, foot)) = pinned
             && let Some(p) = solid.get(joint)
@@ -300,10 +411,13 @@ impl Scene {
             ..Default::default()
         });
         self.bones.set_instances(&Instances { transformations: bones, ..Default::default() });
-        if self.ghost_mode != GhostMode::Hidden && f < original.frame_count() {
+        if let Some(shift_cm) = take_shift_cm {
+            self.set_body(original, f, shift_cm);
+        }
+        if self.ghost_mode != GhostMode::Hidden {
             let ghost: Vec<Vec3> = original.frame(f).iter().map(|p| self.to_world(*p)).collect();
-            let offset = match self.ghost_mode {
-                GhostMode::SideBySide => solid[self.hips] + self.side_offset - ghost[self.hips],
+            let offset = match (self.ghost_mode, solid.get(self.hips), ghost.get(self.hips)) {
+                (GhostMode::SideBySide, Some(solid), Some(ghost)) => *solid + self.side_offset - *ghost,
                 _ => Vec3::new(0.0, 0.0, 0.0),
             };
             let (gj, gb) = self.skeleton_instances(&ghost, parents, offset);
@@ -315,6 +429,31 @@ impl Scene {
         {
             self.orbit.target = vec3(hips.x, self.orbit.target.y, hips.z);
             self.orbit.distance_m = self.orbit.distance_m.min(6.0);
+        }
+    }
+
+    /// The take's solid body in frame `f`: the body model in the original
+    /// pose of `f` moved by `shift_cm` (none when `None`), meshed again
+    /// only when the mesh is of another frame.
+    fn set_body(&mut self, original: &Poses, f: usize, shift_cm: Option<DVec3>) {
+        if self.body_frame == Some(f) {
+            return;
+        }
+        let mesh = shift_cm.zip(self.take.as_ref()).and_then(|(shift_cm, take)| {
+            let mesh = take.shape.pose(original.frame(f), shift_cm).ok()?.mesh(BODY_SEGMENTS);
+            Some(CpuMesh {
+                positions: Positions::F32(
+                    mesh.positions_cm.iter().map(|p| self.to_world(p.as_dvec3())).collect(),
+                ),
+                normals: Some(mesh.normals.iter().map(|n| self.direction_to_world(*n)).collect()),
+                indices: Indices::U32(mesh.indices),
+                ..Default::default()
+            })
+        });
+        self.body_frame = Some(f);
+        self.body_shown = mesh.is_some();
+        if let Some(mesh) = mesh {
+            self.body.geometry = Mesh::new(&self.context, &mesh);
         }
     }
 
@@ -374,10 +513,20 @@ impl Scene {
         let Rgba(r, g, b, a) = theme::VIEW_BACKGROUND;
         let [r, g, b, a] = [r, g, b, a].map(|c| f32::from(c) / 255.0);
         target.clear(ClearState::color_and_depth(r, g, b, a, 1.0));
-        target.render(&self.camera, self.grid.into_iter().chain(&self.trails), &[]);
-        target.render(&self.camera, self.joints.into_iter().chain(&self.bones), &lights);
-        if self.ghost_mode != GhostMode::Hidden {
-            target.render(&self.camera, self.ghost_joints.into_iter().chain(&self.ghost_bones), &lights);
+        // Lists of `&dyn Object` in both calls: one instance of three-d's
+        // generic render code, not one per kind of object (each is kilobytes).
+        let floor: Vec<&dyn Object> = vec![&self.grid, &self.trails];
+        target.render(&self.camera, floor, &[]);
+        let mut bodies: Vec<&dyn Object> = vec![&self.joints, &self.bones];
+        if self.take.is_some() {
+            bodies.push(&self.frustum);
+            if self.body_shown {
+                bodies.push(&self.body);
+            }
         }
+        if self.ghost_mode != GhostMode::Hidden {
+            bodies.extend([&self.ghost_joints as &dyn Object, &self.ghost_bones]);
+        }
+        target.render(&self.camera, bodies, &lights);
     }
 }

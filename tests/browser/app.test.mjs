@@ -396,3 +396,148 @@ test("the download is at most 300 KB gzipped", () => {
   console.log(`download: ${(total / 1000).toFixed(1)} KB gzipped (${files.map((f, i) => `${f} ${(sizes[i] / 1000).toFixed(1)}`).join(", ")}); limit 300 KB`);
   assert.ok(total <= 300_000, `the app downloads ${total} bytes gzipped, over 300 KB`);
 });
+
+// The walk scene of the shared camera data: its suit recording, and as the
+// camera track its true hips (walk.truth.csv, one row per frame of both).
+const TAKE = "/data/optical/walk";
+/** The 3D view's pixels as a data URL, to tell whether the picture changed. */
+const viewPixels = (page) => page.evaluate(() => document.querySelector("#app canvas.view").toDataURL());
+/**
+ * Counts the 3D view's pixels near `rgb` (each channel within `tolerance`),
+ * and the lit body's: light, nearly grey (the body colour under the lights).
+ */
+const colourPixels = (page, rgb, tolerance = 40) => page.evaluate(([rgb, tolerance]) => {
+  const source = document.querySelector("#app canvas.view");
+  const copy = document.createElement("canvas");
+  [copy.width, copy.height] = [source.width, source.height];
+  const ctx = copy.getContext("2d");
+  ctx.drawImage(source, 0, 0);
+  const data = ctx.getImageData(0, 0, copy.width, copy.height).data;
+  let near = 0;
+  let body = 0;
+  for (let i = 0; i < data.length; i += 4) {
+    const [r, g, b] = [data[i], data[i + 1], data[i + 2]];
+    if (Math.abs(r - rgb[0]) <= tolerance && Math.abs(g - rgb[1]) <= tolerance && Math.abs(b - rgb[2]) <= tolerance) near++;
+    if (Math.min(r, g, b) > 110 && Math.max(r, g, b) - Math.min(r, g, b) < 30) body++;
+  }
+  return { near, body };
+}, [rgb, tolerance]);
+
+test("a camera take shows the body solid at the camera track, the camera, and three paths", async (t) => {
+  if (skipWithoutData(t)) return;
+  const { page, errors } = await openApp(browser, server.url, `/?autoplay=0&src=${TAKE}.suit.bvh`);
+  await page.waitForFunction(() => document.querySelector("#app").embusen.player.info().name === "walk.suit.bvh");
+  const take = await page.evaluate(async (scene) => {
+    const m = await import("/pkg-camera/embusen.js");
+    await m.default();
+    const text = async (url) => {
+      const response = await fetch(url);
+      if (!response.ok) throw new Error(`${url}: HTTP ${response.status}`);
+      return response.text();
+    };
+    const bvh = new TextEncoder().encode(await text(`${scene}.suit.bvh`));
+    const rows = (await text(`${scene}.truth.csv`)).trim().split("\n");
+    if (rows[0] !== "time_s,hips_x_cm,hips_y_cm,hips_z_cm") throw new Error(`truth columns: ${rows[0]}`);
+    return {
+      bodyShapeJson: m.body_shape_json("walk.suit.bvh", bvh),
+      frustumCm: Array.from(m.camera_frustum("walk.camera.json", await text(`${scene}.camera.json`), 100)),
+      cameraHipsCm: rows.slice(1).flatMap((row) => row.split(",").slice(1, 4).map(Number)),
+    };
+  }, TAKE);
+  assert.equal(take.cameraHipsCm.length, 3 * 195, "the truth has a row per frame");
+  assert.equal(take.frustumCm.length, 8 * 6, "the frustum is 8 lines");
+  const player = "document.querySelector('#app').embusen.player";
+  const show = (take) => page.evaluate((take) => document.querySelector("#app").embusen.showCameraTake(take), take);
+  const legend = () => page.evaluate(() => {
+    const box = document.querySelector("#app .legend");
+    return box.hidden ? null : box.textContent;
+  });
+  const drawFrame = (f) => page.evaluate(([p, f]) => { const player = eval(p); player.set_frame(f); player.draw(); }, [player, f]);
+
+  await drawFrame(60);
+  const sticks = await colourPixels(page, [236, 96, 226]);
+  assert.equal(await legend(), null, "no legend without a take");
+  assert.equal(sticks.near, 0, "nothing magenta before the take");
+
+  assert.equal(await show(take), true);
+  assert.equal(await page.isVisible("#app .error"), false);
+  await drawFrame(60);
+  const solid = await colourPixels(page, [236, 96, 226]);
+  console.log(`frame 60, pixels: stick figure ${sticks.body} light grey; with the take ${solid.body} light grey (the solid body), ${solid.near} magenta (camera and its track)`);
+  assert.ok(solid.near > 300, `the camera track and the frustum are drawn (${solid.near} magenta pixels)`);
+  assert.ok(solid.body > 2 * sticks.body, `the solid body covers more than the stick figure (${solid.body} vs ${sticks.body} pixels)`);
+  assert.match(await legend(), /suit's own translation.*inertial estimate.*camera track/);
+  await page.screenshot({ path: join(SCREENSHOTS, "camera_take.png") });
+
+  // Paused and idle, the player draws nothing until something changes.
+  const draws = await page.evaluate(async (p) => {
+    const gl = document.querySelector("#app canvas.view").getContext("webgl2");
+    let count = 0;
+    for (const name of ["drawArrays", "drawElements", "drawArraysInstanced", "drawElementsInstanced"]) {
+      const draw = gl[name].bind(gl);
+      gl[name] = (...args) => {
+        count++;
+        return draw(...args);
+      };
+    }
+    await new Promise((ok) => setTimeout(ok, 700));
+    const idle = count;
+    eval(p).set_frame(100);
+    await new Promise((ok) => setTimeout(ok, 500));
+    return { idle, moved: count - idle };
+  }, player);
+  assert.equal(draws.idle, 0, "an idle paused player does not redraw");
+  assert.ok(draws.moved > 0, "a new frame is drawn");
+
+  // Bad input is a message, and what is shown stays.
+  await drawFrame(100);
+  const shown = await viewPixels(page);
+  const bad = [
+    [{ ...take, cameraHipsCm: take.cameraHipsCm.slice(3) }, /the camera track has 582 numbers for a recording of 195 frames: expected x, y, z per frame, 585/],
+    [{ ...take, frustumCm: take.frustumCm.slice(1) }, /the camera frustum has 47 numbers: expected 6 per line/],
+    [{ ...take, bodyShapeJson: "{spheres" }, /the body shape is not JSON/],
+    [{ ...take, bodyShapeJson: JSON.stringify({ ...JSON.parse(take.bodyShapeJson), joint_count: 3 }) }, /the body shape is of a skeleton of 3 joints, the recording walk\.suit\.bvh has \d+/],
+  ];
+  for (const [input, message] of bad) {
+    assert.equal(await show(input), false);
+    assert.match(await page.textContent("#app .error"), message);
+    await page.evaluate((p) => eval(p).draw(), player);
+    assert.ok((await viewPixels(page)) === shown, `after ${message}, the view is as it was`);
+    assert.ok(await legend(), "the legend stays");
+  }
+  assert.equal(await show(take), true, "a good take again");
+  assert.equal(await page.isVisible("#app .error"), false, "and the error goes");
+
+  // Follow mode follows the camera track's hips.
+  await page.click("#app [data-action=follow]");
+  await drawFrame(150);
+  const followed = await colourPixels(page, [236, 96, 226]);
+  assert.ok(followed.body > 2 * solid.body, `followed, the body is near and large (${followed.body} pixels)`);
+  await page.screenshot({ path: join(SCREENSHOTS, "camera_take_follow.png") });
+  await page.click("#app [data-action=follow]");
+  // Narrow: the take framed anew in the narrow view, the legend within it.
+  await page.setViewportSize({ width: 390, height: 844 });
+  await page.waitForTimeout(300);
+  assert.equal(await show(take), true);
+  await drawFrame(100);
+  const narrow = await colourPixels(page, [236, 96, 226]);
+  assert.ok(narrow.near > 50 && narrow.body > 100, `narrow: ${JSON.stringify(narrow)}`);
+  const box = await page.locator("#app .legend").boundingBox();
+  const view = await page.locator("#app canvas.view").boundingBox();
+  assert.ok(box.x >= view.x && box.x + box.width <= view.x + view.width && box.y + box.height <= view.y + view.height, "the legend lies within the view");
+  await page.screenshot({ path: join(SCREENSHOTS, "camera_take_narrow.png") });
+  await page.setViewportSize({ width: 1280, height: 800 });
+
+  // Cleared, and gone with another recording.
+  await page.evaluate(() => document.querySelector("#app").embusen.clearCameraTake());
+  await drawFrame(60);
+  assert.equal((await colourPixels(page, [236, 96, 226])).near, 0, "cleared: nothing magenta");
+  assert.equal(await legend(), null);
+  assert.equal(await show(take), true);
+  await page.evaluate((url) => document.querySelector("#app").embusen.openUrl(url), `${TAKE}.suit.bvh`);
+  await drawFrame(60);
+  assert.equal((await colourPixels(page, [236, 96, 226])).near, 0, "another recording has no take");
+  assert.equal(await legend(), null);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
