@@ -27,6 +27,8 @@ import { closeVideo, frameAt, measureFps, openVideo } from "./video-frames.js";
  * @property {"fused" | "paper"} [method]
  * @property {number} [offsetS] the time offset between video and BVH (s), as `embusen track --offset-s`
  * @property {boolean} [estimateOffset] estimate the offset after tracking, as `embusen track --estimate-offset`
+ * @property {import("./embusen.js").Handle} [player] a player (`mount()`'s handle) to show each track in: the
+ *   suit recording opened there, the body solid at the camera track, the camera, the three floor paths
  */
 
 /**
@@ -703,6 +705,7 @@ export async function mountCameraTracking(element, options = {}) {
         truthErrors: done.errors ? { meanCm: done.errors[0], p90Cm: done.errors[1], maxCm: done.errors[2] } : null,
       };
       drawTop();
+      await showInPlayer(recording, camera, done);
       /** @type {string} */
       let offsetSaid = done.offsetProblem ? `; ${done.offsetProblem}` : "";
       if (done.offset) {
@@ -731,6 +734,30 @@ export async function mountCameraTracking(element, options = {}) {
       worker = null;
       cancelButton.disabled = true;
       showInputs();
+    }
+  }
+
+  /**
+   * Shows the take just tracked in the player given (`options.player`): its
+   * suit recording opened there (unless it is already), then the body at
+   * the camera track, the camera and the paths in its 3D view.
+   * @param {NamedFile} recording
+   * @param {NamedFile} camera
+   * @param {any} done the worker's last message
+   */
+  async function showInPlayer(recording, camera, done) {
+    const player = options.player;
+    if (!player) return;
+    try {
+      if (player.player.info().name !== recording.name) {
+        await player.open([new File([recording.bytes], recording.name)]);
+      }
+      const m = await loadCameraModule();
+      // The frustum reaches a metre ahead: the camera's size in the room's scale.
+      const frustumCm = m.camera_frustum(camera.name, new TextDecoder().decode(camera.bytes), 100);
+      player.showCameraTake({ bodyShapeJson: done.bodyShapeJson, cameraHipsCm: done.trackedHipsCm, frustumCm });
+    } catch {
+      // The player says what went wrong in its own error box; the track stands.
     }
   }
 

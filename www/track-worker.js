@@ -14,6 +14,7 @@
 // {type: "done", recording, csv, warnings, frames, msPerFrame, decodeMsPerFrame, scoreMsPerFrame,
 //  outlines: Uint32Array (per frame n, then n pixels x, y: the body where the track puts it),
 //  candidates: Float64Array (paper: per frame n, chosen, then n times x, z, energy; see CameraJob.paper_candidates),
+//  bodyShapeJson, trackedHipsCm: Float64Array (per BVH frame x, y, z: for the player's 3D view),
 //  errors: Float64Array | null (with a truth: mean, p90, max, then per frame, cm), truthProblem,
 //  offset: Float64Array | undefined (estimateOffset: CameraJob.estimate_offset), offsetProblem},
 // {type: "error", message}.
@@ -247,6 +248,7 @@ async function finish() {
     type: "done", recording: job.recording_text(), csv: job.track_csv(), warnings: job.warnings(), frames,
     msPerFrame: busyMs / Math.max(1, frames), decodeMsPerFrame: decodeMs / Math.max(1, frames),
     scoreMsPerFrame: scoreMs / Math.max(1, frames), outlines, candidates: job.paper_candidates(),
+    bodyShapeJson: job.body_shape_json(), trackedHipsCm: job.tracked_hips_cm(),
     errors, truthProblem, offset, offsetProblem,
   }, [outlines.buffer]);
   job.free();

@@ -125,8 +125,18 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
     panel.querySelector('[data-show="outline"]').checked = true;
     await panel.embusenCamera.showLayers(["mask", "edges"]);
   });
-  // Screenshots of the page with the take tracked, wide and narrow (to look at).
+  // The player above shows the take: the suit recording opened there, the
+  // body solid at the camera track, the camera, the three paths' legend.
+  const player = await page.evaluate(() => {
+    const app = document.querySelector("#app");
+    return { name: app.embusen.player.info().name, legend: !app.querySelector(".legend").hidden,
+      error: app.querySelector(".error").textContent };
+  });
+  assert.equal(player.name, "walk.suit.bvh", JSON.stringify(player));
+  assert.ok(player.legend, `the player shows no camera take: ${player.error}`);
   mkdirSync(SCREENSHOTS, { recursive: true });
+  await page.locator("#app").screenshot({ path: join(SCREENSHOTS, "camera-take-in-player.png") });
+  // Screenshots of the page with the take tracked, wide and narrow (to look at).
   const panel = page.locator("#camera");
   await panel.scrollIntoViewIfNeeded();
   await page.screenshot({ path: join(SCREENSHOTS, "camera-1280x800.png") });
