@@ -177,6 +177,8 @@ export async function mountCameraTracking(element, options = {}) {
   let worker = null;
   /** Ends the tracking under way with its message (set while one runs). @type {((e: Error) => void) | null} */
   let abort = null;
+  /** Set by `destroy()`: what is still under way ends without touching the page. */
+  let destroyed = false;
   const cancel = () => {
     abort?.(new Error("cancelled: the inputs are kept, track again when ready"));
   };
@@ -192,6 +194,7 @@ export async function mountCameraTracking(element, options = {}) {
   };
 
   function showInputs() {
+    if (destroyed) return;
     const line = (/** @type {string} */ what, /** @type {string | undefined} */ have) =>
       `<li class="${have ? "have" : "missing"}">${what}: ${have ?? "missing"}</li>`;
     const v = inputs.video;
@@ -282,7 +285,7 @@ export async function mountCameraTracking(element, options = {}) {
   /** The floor grid (every 50 cm) and the board's corners over the video, as the camera sees them. */
   async function drawOverlay() {
     const video = inputs.video?.element;
-    const ctx = overlay.getContext("2d");
+    const ctx = destroyed ? null : overlay.getContext("2d");
     if (!ctx) return;
     if (!video) {
       ctx.clearRect(0, 0, overlay.width, overlay.height);
@@ -851,6 +854,7 @@ export async function mountCameraTracking(element, options = {}) {
       }
     },
     destroy() {
+      destroyed = true;
       cancel();
       worker?.terminate();
       worker = null;

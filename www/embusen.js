@@ -23,6 +23,13 @@ import init, { Player, options as playerOptions } from "./pkg/embusen.js";
  * @property {boolean} [autoplay]
  * @property {"full" | "minimal"} [chrome] "full": file picker, settings, export, info; "minimal": for embeds
  * @property {"document"} [keyboard] "document": keys page-wide; else when the player has focus
+ * @property {string} [video] a video of the recording's take (`src` is its suit BVH): a camera-tracking
+ *   panel (camera.js) is mounted under the player, its tracks shown in this player's 3D view
+ * @property {string} [camera] with `video`: the camera.json's URL
+ * @property {string} [background] with `video`: the background still's URL
+ * @property {string} [board] with `video`: a still of the ChArUco board (its BOARD.json beside it)
+ * @property {string} [truth] with `video`: the true hips per video frame (CSV)
+ * @property {"fused" | "paper"} [method] with `video`: the camera tracker
  */
 
 /**
@@ -35,7 +42,9 @@ import init, { Player, options as playerOptions } from "./pkg/embusen.js";
  * @property {(take: CameraTakeView) => boolean} showCameraTake shows a camera-tracked take of the open
  *   recording in the 3D view; false when it cannot (the error box says why, and the view stays as it was)
  * @property {() => void} clearCameraTake back to the recording alone
- * @property {() => void} destroy stops the player and releases its loop, observer, listeners and wasm memory
+ * @property {any} [camera] with `video`: the camera panel's handle (camera.js `mountCameraTracking`)
+ * @property {() => void} destroy stops the player and releases its loop, observer, listeners and wasm memory,
+ *   and the camera panel's video and workers
  */
 
 /**
@@ -573,9 +582,14 @@ export async function mount(element, options = {}) {
   };
   panicked.add(showPanic);
 
+  /** The camera panel under the player (`options.video`) and its element. @type {{panel: any, host: HTMLElement} | null} */
+  let camera = null;
   const destroy = () => {
     if (destroyed) return;
     destroyed = true;
+    camera?.panel?.destroy();
+    camera?.host.remove();
+    camera = null;
     stopLoop();
     resizeObserver.disconnect();
     listeners.abort();
@@ -608,5 +622,16 @@ export async function mount(element, options = {}) {
   const handle = { player, element, open, openUrl, ready, destroy, showCameraTake, clearCameraTake };
   /** @type {any} */ (element).embusen = handle;
   await ready;
+  if (options.video && !destroyed) {
+    // The panel's code only now, and only for a take: a player alone loads none of it.
+    const host = document.createElement("div");
+    element.insertAdjacentElement("afterend", host);
+    camera = { panel: null, host };
+    const { mountCameraTracking } = await import("./camera.js");
+    const { video, src, camera: cameraUrl, background, board, truth, method } = options;
+    const panel = await mountCameraTracking(host, { video, src, camera: cameraUrl, background, board, truth, method, player: handle });
+    if (destroyed) panel.destroy();
+    else (camera.panel = panel, (/** @type {Handle} */ (handle).camera = panel));
+  }
   return handle;
 }

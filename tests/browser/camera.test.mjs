@@ -282,6 +282,53 @@ test("four floor corners clicked on the video make embusen calibrate --floor-cor
   await page.close();
 });
 
+test("mount() takes a video: two players on a page, destroy() lets go of the video and the workers", async (t) => {
+  if (skipWithoutData(t)) return;
+  pages["/two-players.html"] = `<!doctype html><html><head><link rel="stylesheet" href="/style.css"></head><body>
+    <div id="a" style="height: 300px"></div><div id="b" style="height: 300px"></div>
+    <script type="module">
+      import { mount } from "/embusen.js";
+      const d = "/data/optical/walk";
+      window.players = await Promise.all([
+        mount(document.querySelector("#a"), { autoplay: true }),
+        mount(document.querySelector("#b"), { src: d + ".suit.bvh", video: d + ".mp4", camera: d + ".camera.json",
+          background: d + ".background.png", autoplay: false }),
+      ]);
+    </script></body></html>`;
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(String(e)));
+  await page.goto(`${server.url}/two-players.html`);
+  await page.waitForFunction(() => window.players?.[1]?.camera, null, { timeout: 60000 });
+  const before = await page.evaluate(() => ({
+    panels: document.querySelectorAll(".embusen-camera").length,
+    videos: [...document.querySelectorAll("video")].filter((v) => v.src).length,
+    inputs: document.querySelector(".embusen-camera .camera-inputs").textContent,
+  }));
+  assert.equal(before.panels, 1, "only the player given a video has a camera panel");
+  assert.equal(before.videos, 1);
+  assert.match(before.inputs, /walk\.mp4, 640×480/);
+  // Destroyed while it tracks: the track ends (cancelled), the video and its
+  // panel go, the other player plays on.
+  const after = await page.evaluate(async () => {
+    const [a, b] = window.players;
+    const tracking = b.camera.track().then(() => "tracked", (e) => e.message);
+    await new Promise((ok) => setTimeout(ok, 1500));
+    b.destroy();
+    const said = await tracking;
+    const frame = a.player.frame();
+    await new Promise((ok) => setTimeout(ok, 500));
+    return { said, panels: document.querySelectorAll(".embusen-camera").length,
+      videos: document.querySelectorAll("video").length, played: a.player.frame() !== frame };
+  });
+  assert.match(after.said, /^cancelled/, after.said);
+  assert.equal(after.panels, 0);
+  assert.equal(after.videos, 0, "the video element is released");
+  assert.ok(after.played, "the other player plays on");
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
 test("every frame of a clip is read as itself, by its pixels, in H.264 and VP9", async () => {
   // 90 frames of 160×120 at 30 fps; frame i shows i in binary as 8 bars of
   // 20 px (white 1, black 0) over a grey field.
