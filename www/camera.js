@@ -155,7 +155,7 @@ export async function mountCameraTracking(element, options = {}) {
   let clicking = false;
   const CORNER_NAMES = ["the origin", "along +x", "the far corner", "along +z"];
   /** (`camera.calibratedHere`: calibrated here, from a board or clicks, so not a lens to calibrate a board with.) */
-  /** @type {{truth?: NamedFile, recording?: NamedFile, camera?: NamedFile & {calibratedHere?: boolean}, background?: NamedFile, board?: NamedFile, boardLayout?: NamedFile, video?: {file: Blob, name: string, element: HTMLVideoElement, fps: number, frameCount: number}}} */
+  /** @type {{truth?: NamedFile, recording?: NamedFile, camera?: NamedFile & {calibratedHere?: boolean}, background?: NamedFile & {fromVideo?: boolean}, board?: NamedFile, boardLayout?: NamedFile, video?: {file: Blob, name: string, element: HTMLVideoElement, fps: number, frameCount: number}}} */
   const inputs = {};
   /** The board's corners found in its still (pixels), drawn over the picture. @type {number[]} */
   let corners = [];
@@ -202,7 +202,7 @@ export async function mountCameraTracking(element, options = {}) {
       line("video", v && `${v.name}, ${v.element.videoWidth}×${v.element.videoHeight}, ${v.fps.toFixed(3)} fps, ${v.frameCount} frames`),
       line("suit recording (BVH)", inputs.recording?.name),
       line("camera (camera.json)", inputs.camera?.name),
-      line("background still (PNG)", inputs.background?.name),
+      line("background still (PNG)", inputs.background?.name ?? (v ? "none: the median of the video's frames will stand in" : undefined)),
       ...(inputs.truth ? [line("true hips (CSV)", inputs.truth.name)] : []),
       ...(inputs.board || inputs.boardLayout
         ? [line("board still", inputs.board?.name), line("board layout (BOARD.json)", inputs.boardLayout?.name)]
@@ -212,7 +212,7 @@ export async function mountCameraTracking(element, options = {}) {
     cornersButton.disabled = !inputs.video || worker !== null;
     exportCamera.disabled = !inputs.camera;
     void drawOverlay();
-    const missing = ["video", "recording", "camera", "background"].filter((k) => !(/** @type {any} */ (inputs))[k]);
+    const missing = ["video", "recording", "camera"].filter((k) => !(/** @type {any} */ (inputs))[k]);
     trackButton.disabled = missing.length > 0 || worker !== null;
     if (missing.length > 0 && !worker) say(`to track, open also: ${missing.join(", ")}`);
   }
@@ -548,6 +548,32 @@ export async function mountCameraTracking(element, options = {}) {
   }
 
   /**
+   * Without a background still, the empty room as `embusen track` makes it:
+   * the per-pixel median of 31 frames spread over the video, each read
+   * exactly; kept as the take's background (and said so).
+   * @param {{name: string, element: HTMLVideoElement, fps: number, frameCount: number}} video
+   * @returns {Promise<NamedFile>}
+   */
+  async function medianBackground(video) {
+    const m = await loadCameraModule();
+    const indices = Array.from(m.median_background_frames(video.frameCount));
+    const lumas = [];
+    let stride = 0;
+    let fullRange = false;
+    for (const [k, i] of indices.entries()) {
+      say(`no background still: reading frame ${k + 1} of the ${indices.length} whose median stands for the empty room…`);
+      const frame = await frameAt(video.element, i, video.fps);
+      if (k > 0 && frame.stride !== stride) throw new Error(`${video.name}: frames of different strides`);
+      [stride, fullRange] = [frame.stride, frame.fullRange];
+      lumas.push(new Uint8Array(frame.luma));
+    }
+    const png = m.median_background_png(video.name, video.element.videoWidth, video.element.videoHeight, lumas, stride, fullRange);
+    const background = { name: `the median of ${indices.length} frames of ${video.name}`, bytes: /** @type {ArrayBuffer} */ (png.buffer), fromVideo: true };
+    inputs.background = background;
+    return background;
+  }
+
+  /**
    * The paper's 25 candidates of the frame shown, where they lie on the
    * floor around the last position (seen from above, x right, z down, as
    * the top view), coloured by energy, the chosen one ringed.
@@ -599,8 +625,12 @@ export async function mountCameraTracking(element, options = {}) {
    * @returns {Promise<TrackResult>}
    */
   async function track() {
-    const { video, recording, camera, background } = inputs;
-    if (!video || !recording || !camera || !background) throw new Error("open a video, its BVH, a camera.json and a background still first");
+    const { video, recording, camera } = inputs;
+    if (!video || !recording || !camera) throw new Error("open a video, its BVH and a camera.json first");
+    const background = inputs.background ?? (await medianBackground(video).catch((e) => {
+      say(e instanceof Error ? e.message : String(e), true);
+      throw e;
+    }));
     path = [];
     errors = null;
     result = null;
@@ -725,7 +755,8 @@ export async function mountCameraTracking(element, options = {}) {
         ? `; against ${inputs.truth?.name}: mean ${result.truthErrors.meanCm.toFixed(1)} cm, p90 ${result.truthErrors.p90Cm.toFixed(1)}, max ${result.truthErrors.maxCm.toFixed(1)}`
         : done.truthProblem ? `; ${done.truthProblem}` : "";
       say(`${methodSelect.value}: ${done.frames} frames tracked, ${result.framesPerSecond.toFixed(1)} frames per second` +
-        truthSaid + offsetSaid + (done.warnings.length > 0 ? `; ${done.warnings.join("; ")}` : ""));
+        truthSaid + offsetSaid + (done.warnings.length > 0 ? `; ${done.warnings.join("; ")}` : "") +
+        (/** @type {any} */ (background).fromVideo ? `; no background still: ${background.name} stands for the empty room` : ""));
       exportRecording.disabled = exportTrack.disabled = false;
       return result;
     } catch (e) {

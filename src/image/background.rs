@@ -22,6 +22,19 @@ pub fn difference(frame: &GreyImage, background: &GreyImage, label: &str) -> Res
     Ok(GreyImage { width_px: frame.width_px, height_px: frame.height_px, pixels })
 }
 
+/// How many frames, spread over a video, its median background is taken of
+/// when there is no still of the empty room: an odd count, plenty for a
+/// median (see [`median_background`]).
+pub const MEDIAN_FRAMES: usize = 31;
+
+/// The indices of `count` frames (at least 1, at most `frame_count`) spread
+/// evenly over a video of `frame_count` frames, from the first to the last,
+/// in order: the frames a median background is taken of.
+pub fn sample_indices(frame_count: usize, count: usize) -> Vec<usize> {
+    let count = count.clamp(1, frame_count.max(1));
+    (0..count).map(|k| if count == 1 { 0 } else { k * (frame_count - 1) / (count - 1) }).collect()
+}
+
 /// The per-pixel median of `frames` (the lower median of an even count): the
 /// empty room, wherever the actor stood on fewer than half of them. Frames
 /// spread over the whole video (see `io::video::sample_frames`) see each

@@ -50,6 +50,20 @@ pub fn png_to_grey(bytes: &[u8], file: &str) -> Result<GreyImage, Error> {
     GreyImage::new(width_px, height_px, pixels, file)
 }
 
+/// `image` as an 8-bit greyscale PNG (what [`png_to_grey`] reads back as
+/// the same pixels): a background the app made, saved as a still.
+pub fn grey_to_png(image: &GreyImage, file: &str) -> Result<Vec<u8>, Error> {
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, image.width_px, image.height_px);
+    encoder.set_color(png::ColorType::Grayscale);
+    encoder.set_depth(png::BitDepth::Eight);
+    let failed = |e: png::EncodingError| Error::whole(file, format!("cannot write the PNG: {e}"));
+    let mut writer = encoder.write_header().map_err(failed)?;
+    writer.write_image_data(&image.pixels).map_err(failed)?;
+    writer.finish().map_err(failed)?;
+    Ok(bytes)
+}
+
 fn png_error(file: &str, e: png::DecodingError) -> Error {
     let what = match e {
         png::DecodingError::IoError(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => {

@@ -241,15 +241,14 @@ pub fn sample_frames(
     frame_count: usize,
     count: usize,
 ) -> Result<Vec<GreyImage>, Error> {
-    let count = count.clamp(1, frame_count.max(1));
-    let wanted = |k: usize| if count == 1 { 0 } else { k * (frame_count - 1) / (count - 1) };
-    let mut kept = Vec::with_capacity(count);
+    let wanted = crate::image::background::sample_indices(frame_count, count);
+    let mut kept = Vec::with_capacity(wanted.len());
     for (index, frame) in frames.enumerate() {
-        if kept.len() == count {
+        if kept.len() == wanted.len() {
             break;
         }
         let frame = frame?;
-        if index == wanted(kept.len()) {
+        if index == wanted[kept.len()] {
             kept.push(frame);
         }
     }

@@ -12,8 +12,11 @@ use crate::app::tracking::{NamedBytes, TrackingJob, VideoDescription};
 use crate::body::shape::BodyShape;
 use crate::camera::floor_rectangle::FloorCalibration;
 use crate::camera::{Camera, FloorRectangle, FocalLength, ImageSize};
+use crate::image::GreyImage;
+use crate::image::background::{MEDIAN_FRAMES, median_background, sample_indices};
 use crate::image::pipeline::Features;
 use crate::io::container::{EncodedVideo, demux, nominal_fps};
+use crate::io::image_file::grey_to_png;
 use crate::io::recording::Recording;
 use crate::track::paper::PaperTrackParams;
 use crate::track::tracker::{FusedParams, PathRequest, TrackMethod};
@@ -417,4 +420,37 @@ impl FloorCornersCalibration {
     pub fn focal_px(&self) -> f64 {
         self.fit.camera.intrinsics.fx_px
     }
+}
+
+/// The frames (indices) of a video of `frame_count` frames whose median
+/// stands for the empty room when there is no background still, as
+/// `embusen track` without `--background` takes them.
+#[wasm_bindgen]
+pub fn median_background_frames(frame_count: usize) -> Vec<u32> {
+    sample_indices(frame_count, MEDIAN_FRAMES).iter().map(|&i| i as u32).collect()
+}
+
+/// The per-pixel median of the frames given (their luma planes, made grey
+/// as the tracker makes them), as a greyscale PNG: the background still
+/// the take is then tracked against. The error names `video_name`.
+#[wasm_bindgen]
+pub fn median_background_png(
+    video_name: &str,
+    width_px: u32,
+    height_px: u32,
+    lumas: Vec<js_sys::Uint8Array>,
+    stride: usize,
+    full_range: bool,
+) -> Result<Vec<u8>, JsError> {
+    let frames = lumas
+        .iter()
+        .enumerate()
+        .map(|(k, luma)| {
+            let label = format!("{video_name}, frame {k} of the median");
+            GreyImage::from_luma(width_px, height_px, &luma.to_vec(), stride, full_range, &label)
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(js_error)?;
+    let median = median_background(&frames, video_name).map_err(js_error)?;
+    grey_to_png(&median, video_name).map_err(js_error)
 }

@@ -329,6 +329,25 @@ test("mount() takes a video: two players on a page, destroy() lets go of the vid
   await page.close();
 });
 
+test("without a background still the page tracks against the video's median, as the CLI does", async (t) => {
+  if (skipWithoutData(t)) return;
+  const scene = (s) => join(DATA, "optical", `walk${s}`);
+  const out = join(scratch, "walk.median.bvh");
+  execFileSync(join(ROOT, "target/release/embusen"), [
+    "track", scene(".mp4"), "--bvh", scene(".suit.bvh"), "--camera", scene(".camera.json"), "-o", out,
+  ], { stdio: "pipe" });
+  const { page, errors } = await openTake(
+    "autoplay=0&video=/data/optical/walk.mp4&src=/data/optical/walk.suit.bvh&camera=/data/optical/walk.camera.json",
+  );
+  assert.match(await page.textContent("#camera-panel .camera-inputs"), /background still \(PNG\): none: the median/);
+  const result = await page.evaluate(() => document.querySelector("#camera-panel").embusenCamera.track());
+  assert.ok(result.recording === readFileSync(out, "utf8"), "against the median, the page's BVH is not the CLI's");
+  assert.match(await page.textContent("#camera-panel .camera-status"), /no background still: the median of 31 frames of walk\.mp4 stands for the empty room/);
+  assert.match(await page.textContent("#camera-panel .camera-inputs"), /background still \(PNG\): the median of 31 frames of walk\.mp4/);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
 test("every frame of a clip is read as itself, by its pixels, in H.264 and VP9", async () => {
   // 90 frames of 160×120 at 30 fps; frame i shows i in binary as 8 bars of
   // 20 px (white 1, black 0) over a grey field.

@@ -9,7 +9,7 @@ use embusen::Error;
 use embusen::camera::Camera;
 use embusen::eval::track::{TrackErrors, track_errors};
 use embusen::image::GreyImage;
-use embusen::image::background::median_background;
+use embusen::image::background::{MEDIAN_FRAMES, median_background};
 use embusen::io::hips_csv::parse_hips_csv;
 use embusen::io::image_file::{ImageSequence, open_png_grey};
 use embusen::io::recording::Recording;
@@ -202,7 +202,7 @@ fn background(
     }
     let frames = Frames::open(video, fps)?;
     let count = frames.frame_count();
-    let sampled = sample_frames(frames, count, 31)?;
+    let sampled = sample_frames(frames, count, MEDIAN_FRAMES)?;
     warnings.push(format!(
         "no background still: the median of {} frames of the video stands for the empty room",
         sampled.len()
