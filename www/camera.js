@@ -96,7 +96,7 @@ const PANEL = `
     <progress value="0" max="1"></progress>
     <button data-action="export-recording" disabled title="download the corrected BVH">⬇ corrected BVH</button>
     <button data-action="export-track" disabled title="download the hips track with the camera's confidence">⬇ track CSV</button>
-    <button data-action="calibrate" disabled title="find the board in its still and calibrate the camera from it">Calibrate from board</button>
+    <button data-action="calibrate" disabled>Calibrate from board</button>
     <button data-action="export-camera" disabled title="download the camera as camera.json">⬇ camera.json</button>
     <span class="camera-corners" title="no board? click on the video the corners of a rectangle of known size on the floor">
       <button data-action="click-corners" disabled>Click floor corners</button>
@@ -208,7 +208,10 @@ export async function mountCameraTracking(element, options = {}) {
         ? [line("board still", inputs.board?.name), line("board layout (BOARD.json)", inputs.boardLayout?.name)]
         : []),
     ].join("");
-    calibrateButton.disabled = !(inputs.board && inputs.boardLayout) || worker !== null;
+    calibrateButton.disabled = !(inputs.boardLayout && (inputs.board || inputs.video)) || worker !== null;
+    calibrateButton.title = inputs.board || !inputs.video
+      ? "find the board in its still and calibrate the camera from it"
+      : "find the board in the video frame shown and calibrate the camera from it";
     cornersButton.disabled = !inputs.video || worker !== null;
     exportCamera.disabled = !inputs.camera;
     void drawOverlay();
@@ -449,11 +452,13 @@ export async function mountCameraTracking(element, options = {}) {
    * @returns {Promise<{rmsPx: number, maxPx: number, corners: number, camera: string}>}
    */
   async function calibrate() {
-    const { board, boardLayout } = inputs;
+    const { boardLayout, video } = inputs;
     const camera = inputs.camera?.calibratedHere ? undefined : inputs.camera;
-    if (!board || !boardLayout) throw new Error("open a still of the board and its layout (BOARD.json) first");
+    if (!boardLayout || !(inputs.board || video)) throw new Error("open the board's layout (BOARD.json) and a still of the board or a video showing it first");
     try {
       say("finding the board…");
+      // Without a still, the video frame shown, read exactly.
+      const board = inputs.board ?? (await videoFrameStill(/** @type {NonNullable<typeof video>} */ (video)));
       const m = await loadBoardModule();
       const text = (/** @type {NamedFile} */ f) => new TextDecoder().decode(f.bytes);
       const found = m.calibrate_board(
@@ -545,6 +550,20 @@ export async function mountCameraTracking(element, options = {}) {
     ctx.moveTo(cx, 5);
     ctx.lineTo(cx, h - 5);
     ctx.stroke();
+  }
+
+  /**
+   * The video frame shown as a still (PNG), to find the board in.
+   * @param {{name: string, element: HTMLVideoElement, fps: number}} video
+   * @returns {Promise<NamedFile>}
+   */
+  async function videoFrameStill(video) {
+    const m = await loadCameraModule();
+    const i = shownFrame();
+    const frame = await frameAt(video.element, i, video.fps);
+    const name = `${video.name} frame ${i}`;
+    const png = m.frame_png(name, video.element.videoWidth, video.element.videoHeight, new Uint8Array(frame.luma), frame.stride, frame.fullRange);
+    return { name, bytes: /** @type {ArrayBuffer} */ (png.buffer) };
   }
 
   /**

@@ -454,3 +454,20 @@ pub fn median_background_png(
     let median = median_background(&frames, video_name).map_err(js_error)?;
     grey_to_png(&median, video_name).map_err(js_error)
 }
+
+/// A video frame (its luma plane, made grey as the tracker makes it) as a
+/// greyscale PNG: a frame to find the board in, as a still would be. The
+/// error names `label`.
+#[wasm_bindgen]
+pub fn frame_png(
+    label: &str,
+    width_px: u32,
+    height_px: u32,
+    luma: &[u8],
+    stride: usize,
+    full_range: bool,
+) -> Result<Vec<u8>, JsError> {
+    let grey =
+        GreyImage::from_luma(width_px, height_px, luma, stride, full_range, label).map_err(js_error)?;
+    grey_to_png(&grey, label).map_err(js_error)
+}

@@ -485,6 +485,29 @@ test("a camera calibrated from board.png in the page stands where the true one d
     else assert.ok(Math.abs(focal) < 0.03, `${scene}: the focal length is ${(100 * focal).toFixed(1)} % off`);
   }
   assert.ok(fetched.some((p) => p.includes("pkg-board")), "the detector was never fetched");
+  // No still: the board found in the video frame shown (a clip of the
+  // board still, encoded as H.264), with the true lens.
+  const clip = join(scratch, "board.mp4");
+  execFileSync("ffmpeg", ["-v", "error", "-y", "-loop", "1", "-i", join(DATA, "optical/walk.board.png"), "-t", "1", "-r", "30",
+    "-c:v", "libx264", "-crf", "16", "-pix_fmt", "yuv420p", clip]);
+  const clipBytes = readFileSync(clip);
+  const { page: fresh, errors: freshErrors } = await openTake("autoplay=0");
+  const inVideo = await fresh.evaluate(async (bytes) => {
+    const panel = document.querySelector("#camera-panel").embusenCamera;
+    const get = async (path) => new File([await (await fetch(path)).blob()], path.split("/").pop());
+    await panel.open([new File([new Uint8Array(bytes)], "board.mp4"), await get("/data/optical/walk.board.json"),
+      await get("/data/optical/walk.camera.json")]);
+    const outcome = await panel.calibrate();
+    return { ...outcome, camera: JSON.parse(outcome.camera), status: document.querySelector("#camera-panel .camera-status").textContent };
+  }, [...clipBytes]);
+  const walk = JSON.parse(readFileSync(join(DATA, "optical/walk.camera.json"), "utf8"));
+  const offInVideo = Math.hypot(...inVideo.camera.camera_center_world_cm.map((c, i) => c - walk.camera_center_world_cm[i]));
+  console.log(`walk's board in a video frame (H.264, crf 16, the true lens): ${inVideo.corners} corners, ` +
+    `reprojection ${inVideo.rmsPx.toFixed(2)} px rms, camera centre ${offInVideo.toFixed(2)} cm off`);
+  assert.match(inVideo.status, /calibrated from board\.mp4 frame \d+: 24 corners/, inVideo.status);
+  assert.ok(offInVideo < 2, `from the video frame the camera centre is ${offInVideo.toFixed(2)} cm from the true one`);
+  assert.deepEqual(freshErrors, []);
+  await fresh.close();
   // A still without a board says so, and the calibration had stays.
   const refused = await page.evaluate(async () => {
     const panel = document.querySelector("#camera-panel").embusenCamera;
