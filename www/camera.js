@@ -12,8 +12,6 @@
 //   const result = await handle.track();   // {recording, csv, warnings, framesPerSecond, ...}
 //   handle.destroy();
 
-import { loadWasm } from "./embusen.js";
-import { nominal_fps } from "./pkg/embusen.js";
 import { closeVideo, frameAt, measureFps, openVideo } from "./video-frames.js";
 
 /**
@@ -225,8 +223,7 @@ export async function mountCameraTracking(element, options = {}) {
     if (kind === "video") {
       const video = await openVideo(blob, name);
       try {
-        await loadWasm();
-        const fps = nominal_fps(await measureFps(video));
+        const fps = (await loadCameraModule()).nominal_fps(await measureFps(video));
         const frameCount = Math.round(video.duration * fps);
         if (inputs.video) closeVideo(inputs.video.element);
         inputs.video = { file: blob, name, element: video, fps, frameCount };

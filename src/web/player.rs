@@ -16,13 +16,6 @@ use crate::web::api::{Export, FootNames, Ghost, Info, Options, PlotPanel, SoleDe
 use crate::web::scene::{CameraTake, GhostMode, Scene};
 use crate::web::{api, canvas2d};
 
-/// The rate a video was recorded at, from one measured off its presented
-/// frames' timestamps ([`crate::io::container::nominal_fps`]).
-#[wasm_bindgen]
-pub fn nominal_fps(measured: f64) -> f64 {
-    crate::io::container::nominal_fps(measured)
-}
-
 /// Every choice the page offers, and the defaults.
 #[wasm_bindgen]
 pub fn options() -> Result<Ts<Options>, JsError> {

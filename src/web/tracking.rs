@@ -229,6 +229,13 @@ impl CameraJob {
     }
 }
 
+/// The rate a video was recorded at, from one measured off its presented
+/// frames' timestamps ([`nominal_fps`]).
+#[wasm_bindgen(js_name = nominal_fps)]
+pub fn nominal_fps_of(measured: f64) -> f64 {
+    nominal_fps(measured)
+}
+
 /// A video file's encoded frames, for the worker's `VideoDecoder`
 /// ([`crate::io::container`]).
 #[wasm_bindgen]
