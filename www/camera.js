@@ -182,7 +182,7 @@ export async function mountCameraTracking(element, options = {}) {
   };
   /** @type {Array<[number, number, number]>} */
   let path = [];
-  /** The paper's candidates per frame of the last track: positions (x, z cm), energies (px), the chosen one. @type {Array<{xz: number[], energies: number[], chosen: number}>} */
+  /** The paper's candidates per frame of the last track: each tried [x, z (cm), energy (px)], the chosen one's index. @type {Array<{tried: number[][], chosen: number}>} */
   let candidates = [];
   const candidatesCanvas = /** @type {HTMLCanvasElement} */ ($(".camera-candidates"));
 
@@ -603,20 +603,18 @@ export async function mountCameraTracking(element, options = {}) {
     ctx.fillStyle = "#1e2126";
     ctx.fillRect(0, 0, w, h);
     ctx.fillStyle = "#9aa0aa";
-    if (!frame || frame.energies.length === 0) {
+    if (!frame || frame.tried.length === 0) {
       ctx.fillText("no candidates in this frame (no pose)", 10, h / 2);
       return;
     }
-    const finite = frame.energies.filter(Number.isFinite);
+    const finite = frame.tried.map((c) => c[2]).filter(Number.isFinite);
     const [low, high] = [Math.min(...finite), Math.max(...finite)];
-    const [x0, z0] = [frame.xz[0], frame.xz[1]]; // the first is the last position
-    let reach = 1;
-    for (let k = 0; k < frame.energies.length; k++) reach = Math.max(reach, Math.abs(frame.xz[2 * k] - x0), Math.abs(frame.xz[2 * k + 1] - z0));
+    const [x0, z0] = frame.tried[0]; // the first is the last position
+    const reach = Math.max(1, ...frame.tried.map(([x, z]) => Math.max(Math.abs(x - x0), Math.abs(z - z0))));
     const scale = (Math.min(w, h - 40) / 2 - 14) / reach;
     const [cx, cy] = [w / 2, (h - 40) / 2 + 8];
-    for (let k = 0; k < frame.energies.length; k++) {
-      const [x, y] = [cx + (frame.xz[2 * k] - x0) * scale, cy + (frame.xz[2 * k + 1] - z0) * scale];
-      const e = frame.energies[k];
+    for (const [k, [xCm, zCm, e]] of frame.tried.entries()) {
+      const [x, y] = [cx + (xCm - x0) * scale, cy + (zCm - z0) * scale];
       const t = Number.isFinite(e) && high > low ? (e - low) / (high - low) : Number.isFinite(e) ? 0 : 1;
       ctx.fillStyle = Number.isFinite(e) ? `rgb(${Math.round(74 + 174 * t)}, ${Math.round(222 - 109 * t)}, ${Math.round(128 - 15 * t)})` : "#555";
       ctx.beginPath();
@@ -631,7 +629,7 @@ export async function mountCameraTracking(element, options = {}) {
       }
     }
     ctx.fillStyle = "#9aa0aa";
-    ctx.fillText(`the paper's ${frame.energies.length} candidates, frame ${shownFrame()}`, 8, h - 24);
+    ctx.fillText(`the paper's ${frame.tried.length} candidates, frame ${shownFrame()}`, 8, h - 24);
     ctx.fillText(`energy ${low.toFixed(2)}–${high.toFixed(2)} px; ${scale > 0 ? (10 * scale).toFixed(0) : 0} px = 10 cm`, 8, h - 10);
   }
 
@@ -733,15 +731,11 @@ export async function mountCameraTracking(element, options = {}) {
       candidates = [];
       for (let at = 0; at < done.candidates.length; ) {
         const [n, chosen] = [done.candidates[at], done.candidates[at + 1]];
-        const rows = done.candidates.subarray(at + 2, at + 2 + 3 * n);
-        candidates.push({
-          xz: Array.from({ length: 2 * n }, (_, k) => rows[3 * (k >> 1) + (k & 1)]),
-          energies: Array.from({ length: n }, (_, k) => rows[3 * k + 2]),
-          chosen,
-        });
+        const tried = Array.from({ length: n }, (_, k) => Array.from(done.candidates.subarray(at + 2 + 3 * k, at + 5 + 3 * k)));
+        candidates.push({ tried, chosen });
         at += 2 + 3 * n;
       }
-      if (candidates.every((c) => c.energies.length === 0)) candidates = [];
+      if (candidates.every((c) => c.tried.length === 0)) candidates = [];
       drawCandidates();
       void drawOverlay();
       errors = done.errors ? done.errors.subarray(3) : null;
@@ -882,7 +876,8 @@ export async function mountCameraTracking(element, options = {}) {
     /** Resolves with the next calibration from clicked corners (its figures, or `{error}`). */
     nextCornersCalibration: () => new Promise((ok) => (cornersDone = ok)),
     /** The paper's candidates of video frame `i` of the last track (none for `fused`). */
-    candidatesAt: (/** @type {number} */ i) => candidates[i] ?? null,
+    candidatesAt: (/** @type {number} */ i) =>
+      candidates[i] ? { energies: candidates[i].tried.map((c) => c[2]), chosen: candidates[i].chosen } : null,
     /** The body's outline over video frame `i` where the last track puts it (x, y pixel after pixel). */
     outlineAt: (/** @type {number} */ i) => Array.from(outlines[i] ?? []),
     cancel,

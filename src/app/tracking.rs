@@ -134,11 +134,22 @@ impl TrackingJob {
         stride: usize,
         full_range: bool,
     ) -> Result<FrameProgress, Error> {
-        let frame = self.frames_done();
+        let grey = self.grey_of(luma, stride, full_range, self.frames_done())?;
+        self.push_grey(&grey)
+    }
+
+    /// Video frame `frame` grey from its luma plane (see
+    /// [`GreyImage::from_luma`]), the error naming it.
+    fn grey_of(
+        &self,
+        luma: &[u8],
+        stride: usize,
+        full_range: bool,
+        frame: usize,
+    ) -> Result<GreyImage, Error> {
         let size = self.take.setup.camera.image_size;
         let label = format!("{} frame {frame}", self.video_name);
-        let grey = GreyImage::from_luma(size.width_px, size.height_px, luma, stride, full_range, &label)?;
-        self.push_grey(&grey)
+        GreyImage::from_luma(size.width_px, size.height_px, luma, stride, full_range, &label)
     }
 
     /// Tracks the next frame, already grey.
@@ -199,9 +210,7 @@ impl TrackingJob {
         stride: usize,
         full_range: bool,
     ) -> Result<Vec<f64>, Error> {
-        let size = self.take.setup.camera.image_size;
-        let label = format!("{} frame {}", self.video_name, request.frame);
-        let grey = GreyImage::from_luma(size.width_px, size.height_px, luma, stride, full_range, &label)?;
+        let grey = self.grey_of(luma, stride, full_range, request.frame)?;
         let scorer = match &mut self.path_scorer {
             Some(scorer) => scorer,
             None => self.path_scorer.insert(PathScorer::new(self.take.setup.clone())?),
@@ -299,9 +308,7 @@ impl TrackingJob {
             .iter()
             .enumerate()
             .map(|(i, frame)| {
-                let instant = setup.suit.instant(setup.timing.bvh_time_s(i));
-                let Some(body_cm) = setup.suit.body_at(instant) else { return Vec::new() };
-                let Ok(body) = setup.shape.pose(&body_cm, DVec3::ZERO) else { return Vec::new() };
+                let Ok(Some(body)) = setup.posed_body(i) else { return Vec::new() };
                 renderer.render(&body, DVec3::new(frame.floor_cm.x, 0.0, frame.floor_cm.y)).contour()
             })
             .collect()

@@ -63,8 +63,7 @@ impl Take {
                 suit.bvh_fps
             ));
         }
-        let shape =
-            BodyShape::standard(&recording.joint_names, &recording.parents, recording.poses.frame(0))?;
+        let shape = body_shape_of(&recording)?;
         let setup = TrackSetup {
             camera,
             suit,
@@ -94,6 +93,12 @@ impl Take {
             track_csv: format_hips_csv(&track_samples(track)),
         }
     }
+}
+
+/// The body model a take of `recording` is tracked with: the standard
+/// shape of its skeleton, scaled to its stature.
+pub fn body_shape_of(recording: &Recording) -> Result<BodyShape, Error> {
+    BodyShape::standard(&recording.joint_names, &recording.parents, recording.poses.frame(0))
 }
 
 /// The hips per BVH frame from the track (the video's frames read at the

@@ -185,6 +185,16 @@ pub struct TrackSetup {
     pub method: TrackMethod,
 }
 
+impl TrackSetup {
+    /// The body model in the suit's pose at video frame `i` (its time
+    /// through `timing`), standing at the floor's origin; `None` where the
+    /// BVH has no pose.
+    pub fn posed_body(&self, i: usize) -> Result<Option<PosedBody>, Error> {
+        let instant = self.suit.instant(self.timing.bvh_time_s(i));
+        self.suit.body_at(instant).map(|body_cm| self.shape.pose(&body_cm, DVec3::ZERO)).transpose()
+    }
+}
+
 /// The tracker in the middle of a video.
 pub struct Tracker {
     setup: TrackSetup,
@@ -327,9 +337,7 @@ impl Tracker {
         let label = format!("video frame {i}");
         let camera = self.setup.camera;
         camera.check_image_size(frame.width_px, frame.height_px, &label)?;
-        let instant = self.setup.suit.instant(self.setup.timing.bvh_time_s(i));
-        let Some(body_cm) = self.setup.suit.body_at(instant) else { return Ok(None) };
-        let body = self.setup.shape.pose(&body_cm, DVec3::ZERO)?;
+        let Some(body) = self.setup.posed_body(i)? else { return Ok(None) };
         let features = features(frame, &self.setup.background, &self.setup.pipeline, &label)?;
         let (terms, depth_cm) = fused_terms(&camera, &params, &features, around_cm);
         let banded = BandedBody::new(&self.setup.shape, &body, &camera, &params, depth_cm);
@@ -715,11 +723,9 @@ impl PathScorer {
         let label = format!("video frame {}", request.frame);
         let setup = &self.setup;
         setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
-        let instant = setup.suit.instant(setup.timing.bvh_time_s(request.frame));
-        let Some(body_cm) = setup.suit.body_at(instant) else {
+        let Some(body) = setup.posed_body(request.frame)? else {
             return Err(Error::whole(&label, "no pose in the BVH here: no path to score"));
         };
-        let body = setup.shape.pose(&body_cm, DVec3::ZERO)?;
         let pipeline = PipelineParams { truncate_px: request.truncate_px, ..setup.pipeline };
         let features = features(frame, &setup.background, &pipeline, &label)?;
         let (terms, depth_cm) = fused_terms(&setup.camera, &self.params, &features, request.prediction_cm);

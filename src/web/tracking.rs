@@ -9,7 +9,6 @@ use wasm_bindgen::prelude::*;
 use crate::app::calibration::{floor_grid_px, frustum_lines_cm};
 use crate::app::frame_layers::{FrameLayers, Layer, layer_rgba};
 use crate::app::tracking::{NamedBytes, TrackingJob, VideoDescription};
-use crate::body::shape::BodyShape;
 use crate::camera::floor_rectangle::FloorCalibration;
 use crate::camera::{Camera, FloorRectangle, FocalLength, ImageSize};
 use crate::image::GreyImage;
@@ -19,6 +18,7 @@ use crate::io::container::{EncodedVideo, demux, nominal_fps};
 use crate::io::image_file::grey_to_png;
 use crate::io::recording::Recording;
 use crate::track::paper::PaperTrackParams;
+use crate::track::take::body_shape_of;
 use crate::track::tracker::{FusedParams, PathRequest, TrackMethod};
 use glam::DVec2;
 use wasm_bindgen::Clamped;
@@ -325,8 +325,7 @@ pub fn camera_frustum(camera_name: &str, camera_json: &str, depth_cm: f64) -> Re
 #[wasm_bindgen]
 pub fn body_shape_json(recording_name: &str, recording: &[u8]) -> Result<String, JsError> {
     let recording = Recording::parse(recording, recording_name, None).map_err(js_error)?;
-    let shape = BodyShape::standard(&recording.joint_names, &recording.parents, recording.poses.frame(0))
-        .map_err(js_error)?;
+    let shape = body_shape_of(&recording).map_err(js_error)?;
     serde_json::to_string(&shape).map_err(js_error)
 }
 

@@ -46,14 +46,23 @@ after(async () => {
   await server?.close();
 });
 
+/**
+ * `embusen track` on the shared walk scene, writing `out` (and its track
+ * CSV beside it); `withBackground` gives it walk's background still.
+ * Returns what it printed.
+ */
+function trackWalkWithCli(out, extra = [], withBackground = true) {
+  const scene = (s) => join(DATA, "optical", `walk${s}`);
+  return execFileSync(join(ROOT, "target/release/embusen"), [
+    "track", scene(".mp4"), "--bvh", scene(".suit.bvh"), "--camera", scene(".camera.json"),
+    ...(withBackground ? ["--background", scene(".background.png")] : []), ...extra, "-o", out,
+  ], { stdio: "pipe" }).toString();
+}
+
 test("a scene tracked in the page is embusen track's, byte for byte, at a measured rate", async (t) => {
   if (skipWithoutData(t)) return;
-  const scene = (s) => join(DATA, "optical", `walk${s}`);
   const out = join(scratch, "walk.tracked.bvh");
-  execFileSync(join(ROOT, "target/release/embusen"), [
-    "track", scene(".mp4"), "--bvh", scene(".suit.bvh"), "--camera", scene(".camera.json"),
-    "--background", scene(".background.png"), "-o", out,
-  ], { stdio: "pipe" });
+  trackWalkWithCli(out);
   // The player above the panel paused (autoplay=0): its animation would
   // take a core from the tracking.
   const { page, errors } = await openTake(
@@ -149,12 +158,8 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
 
 test("the paper's tracker in the page: the CLI's bytes, and its 25 candidates per frame", async (t) => {
   if (skipWithoutData(t)) return;
-  const scene = (s) => join(DATA, "optical", `walk${s}`);
   const out = join(scratch, "walk.paper.bvh");
-  execFileSync(join(ROOT, "target/release/embusen"), [
-    "track", scene(".mp4"), "--bvh", scene(".suit.bvh"), "--camera", scene(".camera.json"),
-    "--background", scene(".background.png"), "--method", "paper", "-o", out,
-  ], { stdio: "pipe" });
+  trackWalkWithCli(out, ["--method", "paper"]);
   const { page, errors } = await openTake(
     "autoplay=0&video=/data/optical/walk.mp4&src=/data/optical/walk.suit.bvh&camera=/data/optical/walk.camera.json" +
       "&background=/data/optical/walk.background.png",
@@ -183,13 +188,9 @@ test("the paper's tracker in the page: the CLI's bytes, and its 25 candidates pe
 
 test("the time offset is estimated in the page as embusen track --estimate-offset does", async (t) => {
   if (skipWithoutData(t)) return;
-  const scene = (s) => join(DATA, "optical", `walk${s}`);
   const out = join(scratch, "walk.offset.bvh");
   // Told 0.15 s, which is wrong: the CLI estimates it, and tracks again at the estimate.
-  const said = execFileSync(join(ROOT, "target/release/embusen"), [
-    "track", scene(".mp4"), "--bvh", scene(".suit.bvh"), "--camera", scene(".camera.json"),
-    "--background", scene(".background.png"), "--offset-s", "0.15", "--estimate-offset", "-o", out,
-  ], { stdio: "pipe" }).toString();
+  const said = trackWalkWithCli(out, ["--offset-s", "0.15", "--estimate-offset"]);
   const cli = Number(/the BVH runs (-?[\d.]+) s ahead/.exec(said)?.[1]);
   const { page, errors } = await openTake(
     "autoplay=0&video=/data/optical/walk.mp4&src=/data/optical/walk.suit.bvh&camera=/data/optical/walk.camera.json" +
@@ -331,11 +332,8 @@ test("mount() takes a video: two players on a page, destroy() lets go of the vid
 
 test("without a background still the page tracks against the video's median, as the CLI does", async (t) => {
   if (skipWithoutData(t)) return;
-  const scene = (s) => join(DATA, "optical", `walk${s}`);
   const out = join(scratch, "walk.median.bvh");
-  execFileSync(join(ROOT, "target/release/embusen"), [
-    "track", scene(".mp4"), "--bvh", scene(".suit.bvh"), "--camera", scene(".camera.json"), "-o", out,
-  ], { stdio: "pipe" });
+  trackWalkWithCli(out, [], false);
   const { page, errors } = await openTake(
     "autoplay=0&video=/data/optical/walk.mp4&src=/data/optical/walk.suit.bvh&camera=/data/optical/walk.camera.json",
   );
