@@ -13,7 +13,7 @@ use embusen::io::bvh::{Bvh, ReadOptions};
 use embusen::io::recording::{FeetChoice, Recording};
 use embusen::io::table::Table;
 use embusen::translate::contact::ContactParams;
-use embusen::translate::paper::PaperParams;
+use embusen::translate::hachaj::HachajParams;
 
 /// Median wall time of `f` over enough runs to fill about half a second.
 fn median_time(mut f: impl FnMut()) -> Duration {
@@ -76,7 +76,7 @@ fn main() {
     );
 
     let recording = Recording::parse(&table_bytes, "heian_shodan.csv", None).expect("parses");
-    let params = PaperParams::default();
+    let params = HachajParams::default();
     let feet = FeetChoice::default();
     let t = median_time(|| {
         std::hint::black_box(recording.translate_paper(&feet, &params).expect("runs"));

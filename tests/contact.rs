@@ -9,7 +9,7 @@
 use embusen::body::feet::{FootJoints, PerFoot, hips_joint};
 use embusen::body::skeleton::Poses;
 use embusen::translate::contact::{ContactParams, contact_translation};
-use embusen::translate::paper::{PaperParams, paper_translation};
+use embusen::translate::hachaj::{HachajParams, hachaj_translation};
 use glam::DVec3;
 use proptest::prelude::*;
 
@@ -52,7 +52,7 @@ proptest! {
             prop_assert!(result.shift_cm.iter().all(|s| s.is_finite()), "{:?}", result.shift_cm);
         }
         let ones = vec![1.0; frames];
-        if let Ok(result) = paper_translation(&poses, feet, PerFoot::new(&ones[..], &ones[..]), fps, &PaperParams::default()) {
+        if let Ok(result) = hachaj_translation(&poses, feet, PerFoot::new(&ones[..], &ones[..]), fps, &HachajParams::default()) {
             prop_assert_eq!(result.shift_cm.len(), frames);
         }
     }

@@ -274,5 +274,9 @@ fn the_recording_parses_round_trips_and_plays() {
     let mut session = Session::open(opened, Settings::default()).expect("the app opens the demo");
     assert_eq!(session.recording.frame_count(), FRAMES);
     assert!(session.translated.poses.positions_cm.iter().all(|p| p.is_finite()));
-    assert!(session.set_settings(Settings { use_paper: true, ..Default::default() }).is_ok());
+    assert!(
+        session
+            .set_settings(Settings { method: embusen::translate::MethodKind::Paper, ..Default::default() })
+            .is_ok()
+    );
 }

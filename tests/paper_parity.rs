@@ -10,7 +10,7 @@ use std::time::Instant;
 use embusen::body::feet::{Foot, FootJoints, PerFoot};
 use embusen::io::table::{Accelerations, Table};
 use embusen::signal::accel::magnitudes;
-use embusen::translate::paper::{PaperParams, PaperResult, Smoothing, paper_translation};
+use embusen::translate::hachaj::{HachajParams, HachajResult, Smoothing, hachaj_translation};
 
 mod common;
 
@@ -29,18 +29,18 @@ fn joint(table: &Table, name: &str) -> usize {
 }
 
 /// Runs the paper method on the table the way RMoCap does.
-fn run(table: &Table, smoothing: Smoothing) -> PaperResult {
+fn run(table: &Table, smoothing: Smoothing) -> HachajResult {
     let feet = FootJoints { left: joint(table, "LeftFoot"), right: joint(table, "RightFoot") };
     let left = magnitudes(&table.accel_g("LeftFoot").expect("LeftFoot.a*"));
     let right = magnitudes(&table.accel_g("RightFoot").expect("RightFoot.a*"));
     let fps = 1.0 / table.frame_time_s().expect("a Time column");
-    let params = PaperParams { smoothing, ..PaperParams::default() };
+    let params = HachajParams { smoothing, ..HachajParams::default() };
     let poses = table.poses();
     let start = Instant::now();
-    let result = paper_translation(&poses, feet, PerFoot::new(&left[..], &right[..]), fps, &params)
+    let result = hachaj_translation(&poses, feet, PerFoot::new(&left[..], &right[..]), fps, &params)
         .unwrap_or_else(|e| panic!("{e}"));
     eprintln!(
-        "paper_translation ({smoothing:?}) on {} frames: {:.3} ms",
+        "hachaj_translation ({smoothing:?}) on {} frames: {:.3} ms",
         poses.frame_count(),
         start.elapsed().as_secs_f64() * 1e3
     );
@@ -115,7 +115,7 @@ fn clean_mode_differs_mildly_and_pins_feet_at_the_ends() {
 
     // The hips path: the two modes agree closely in the middle of the kata.
     let hips = joint(&input, "Hips");
-    let path = |r: &PaperResult| input.poses().shifted(&r.shift_cm).trajectory(hips);
+    let path = |r: &HachajResult| input.poses().shifted(&r.shift_cm).trajectory(hips);
     let (a, b) = (path(&faithful), path(&clean));
     let floor_gap = |f: usize| {
         let d = a[f] - b[f];

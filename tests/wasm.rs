@@ -7,8 +7,10 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![cfg(target_arch = "wasm32")]
 
+use embusen::translate::MethodKind;
+use embusen::translate::hachaj::Smoothing;
 use embusen::web::Player;
-use embusen::web::api::{self, Ghost, Method, Smoothing};
+use embusen::web::api::{self, Ghost};
 use tsify::{Ts, Tsify};
 use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
@@ -26,7 +28,7 @@ fn canvas(width: u32, height: u32) -> HtmlCanvasElement {
 }
 
 /// The settings in use with `change` applied.
-fn settings(player: &Player, change: impl FnOnce(&mut api::Settings)) -> Ts<api::Settings> {
+fn settings(player: &Player, change: impl FnOnce(&mut api::PlayerSettings)) -> Ts<api::PlayerSettings> {
     let mut settings = player.settings().unwrap().to_rust().unwrap();
     change(&mut settings);
     settings.into_ts().unwrap()
@@ -82,7 +84,7 @@ fn bad_input_keeps_the_open_recording() {
     assert_eq!(player.info().unwrap().to_rust().unwrap().name, embusen::synth::demo::DEMO_NAME);
     let before = player.settings().unwrap().to_rust().unwrap();
     let bad = settings(&player, |s| {
-        s.method = Method::Paper;
+        s.method = MethodKind::Paper;
         s.left_foot = Some("NoSuchJoint".to_string());
     });
     assert!(player.set_settings(bad).is_err());
@@ -95,7 +97,7 @@ fn unknown_values_and_fields_are_errors_that_name_them() {
     let mut player = player();
     let good = r#"{"method":"paper","smoothing":"clean","window_s":1,"dy_eps_cm":5,"sole_depth_cm":null,"left_foot":null,"right_foot":null}"#;
     player.set_settings(Ts::new_unchecked(js(good))).unwrap();
-    assert_eq!(player.settings().unwrap().to_rust().unwrap().method, Method::Paper);
+    assert_eq!(player.settings().unwrap().to_rust().unwrap().method, MethodKind::Paper);
     let cases = [
         (good.replace("\"paper\"", "\"papier\""), "papier"),
         (good.replace("\"clean\"", "\"smooth\""), "smooth"),
@@ -121,12 +123,12 @@ fn the_options_defaults_are_the_players() {
     let player = player();
     let defaults = &options.defaults;
     assert_eq!(player.settings().unwrap().to_rust().unwrap(), defaults.settings);
-    assert_eq!(defaults.settings.method, Method::Contact);
+    assert_eq!(defaults.settings.method, MethodKind::Contact);
     assert_eq!((defaults.settings.window_s, defaults.settings.dy_eps_cm), (1.0, 5.0), "RMoCap's");
     assert_eq!(defaults.settings.sole_depth_cm, None, "estimated");
     assert_eq!(options.sole_depths_cm, embusen::translate::contact::SOLE_DEPTHS_CM);
     assert!(options.speeds.contains(&defaults.speed));
-    assert!(options.methods.iter().any(|m| m.value == Method::Paper));
+    assert!(options.methods.iter().any(|m| m.value == MethodKind::Paper));
     assert_eq!(defaults.ghost, Ghost::Overlay);
     // Every offered choice is accepted.
     let mut player = player;
@@ -141,12 +143,16 @@ fn the_options_defaults_are_the_players() {
 #[wasm_bindgen_test]
 fn settings_recompute_and_exports_match_the_core() {
     let mut player = player();
-    assert_eq!(player.info().unwrap().to_rust().unwrap().method, Method::Contact, "contact is the default");
+    assert_eq!(
+        player.info().unwrap().to_rust().unwrap().method,
+        MethodKind::Contact,
+        "contact is the default"
+    );
     let sole = player.info().unwrap().to_rust().unwrap().sole_depth.unwrap();
     assert!(sole.estimated);
     let hips = |player: &Player| player.export_hips_csv().unwrap().to_rust().unwrap();
     let contact = hips(&player);
-    player.set_settings(settings(&player, |s| s.method = Method::Paper)).unwrap();
+    player.set_settings(settings(&player, |s| s.method = MethodKind::Paper)).unwrap();
     assert_eq!(player.info().unwrap().to_rust().unwrap().sole_depth, None, "the paper method has no sole");
     let faithful = hips(&player);
     assert_ne!(contact.text, faithful.text);
@@ -162,8 +168,8 @@ fn settings_recompute_and_exports_match_the_core() {
     assert_ne!(faithful.text, clean.text);
     // The exported BVH is what the core writes for the same settings.
     let recording = embusen::synth::demo::demo().recording();
-    let mut settings = embusen::app::session::Settings { use_paper: true, ..Default::default() };
-    settings.paper.smoothing = embusen::translate::paper::Smoothing::Clean;
+    let mut settings = embusen::app::session::Settings { method: MethodKind::Paper, ..Default::default() };
+    settings.paper.smoothing = Smoothing::Clean;
     settings.paper.window_s = 0.5;
     settings.paper.dy_eps_cm = 3.0;
     let session = embusen::app::session::Session::open(recording, settings).unwrap();

@@ -7,23 +7,26 @@ use crate::body::feet::{Foot, PerFoot};
 use crate::error::Error;
 use crate::io::recording::{FeetChoice, Recording, base_name};
 use crate::translate::contact::{ContactParams, Support};
-use crate::translate::paper::{PaperParams, Smoothing};
-use crate::translate::{Decisions, Method, Translated};
+use crate::translate::hachaj::{HachajParams, Smoothing};
+use crate::translate::{Decisions, Method, MethodKind, Translated};
 
 /// The user's method settings. Both methods keep their parameters, so
 /// switching back and forth loses nothing.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Settings {
-    pub use_paper: bool,
-    pub paper: PaperParams,
+    pub method: MethodKind,
+    pub paper: HachajParams,
     pub contact: ContactParams,
     pub feet: FeetChoice,
 }
 
 impl Settings {
-    /// The method in use, with its parameters (contact unless `use_paper`).
-    pub fn method(&self) -> Method {
-        if self.use_paper { Method::Paper(self.paper) } else { Method::Contact(self.contact.clone()) }
+    /// The method in use, with its parameters.
+    pub fn method_with_params(&self) -> Method {
+        match self.method {
+            MethodKind::Paper => Method::Paper(self.paper),
+            MethodKind::Contact => Method::Contact(self.contact.clone()),
+        }
     }
 }
 
@@ -93,7 +96,7 @@ fn export_name(name: &str, suffix: &str) -> String {
 }
 
 fn translate(recording: &Recording, settings: &Settings) -> Result<Translated, Error> {
-    recording.translate(&settings.feet, &settings.method())
+    recording.translate(&settings.feet, &settings.method_with_params())
 }
 
 /// What the plots show: (a) the signal that chose the foot and (e) the

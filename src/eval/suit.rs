@@ -17,7 +17,7 @@ use crate::io::bvh::Bvh;
 use crate::io::recording::bvh_stem;
 use crate::signal::stats::median;
 use crate::translate::Method;
-use crate::translate::paper::PaperParams;
+use crate::translate::hachaj::HachajParams;
 
 /// What separates a suit file's truth name from its tag: `NAME.suit-TAG.bvh`.
 const SUIT_MARK: &str = ".suit-";
@@ -106,7 +106,7 @@ pub fn suit_level(file_name: &str) -> String {
 /// with the paper method and the contact method, each with its defaults.
 pub fn evaluate_suit_file(suit: &Bvh, truth: &Bvh, name: &str) -> Result<SuitFileAccuracy, Error> {
     let SuitAccuracy { accuracy: paper, .. } =
-        evaluate_suit(suit, truth, name, &Method::Paper(PaperParams::default()))?;
+        evaluate_suit(suit, truth, name, &Method::Paper(HachajParams::default()))?;
     let contact = evaluate_suit(suit, truth, name, &Method::default())?;
     Ok(SuitFileAccuracy {
         file: FileAccuracy { name: name.to_string(), paper, contact: contact.accuracy },

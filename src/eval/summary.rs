@@ -7,7 +7,7 @@ use crate::eval::{Accuracy, evaluate_groundtruth, motion_type};
 use crate::io::bvh::Bvh;
 use crate::signal::stats::median;
 use crate::translate::Method;
-use crate::translate::paper::PaperParams;
+use crate::translate::hachaj::HachajParams;
 
 /// A file whose true hips path is shorter than this (cm) stays in place (a
 /// bow): percentages of its path, and the path ratio, say nothing, so the
@@ -50,7 +50,7 @@ pub struct Summary {
 /// Evaluates a ground-truth BVH (see [`evaluate_groundtruth`]) with the paper
 /// method and the contact method, each with its default parameters.
 pub fn evaluate_file(bvh: &Bvh, name: &str) -> Result<FileAccuracy, Error> {
-    let paper = evaluate_groundtruth(bvh, name, &Method::Paper(PaperParams::default()))?;
+    let paper = evaluate_groundtruth(bvh, name, &Method::Paper(HachajParams::default()))?;
     let contact = evaluate_groundtruth(bvh, name, &Method::default())?;
     Ok(FileAccuracy { name: name.to_string(), paper, contact })
 }

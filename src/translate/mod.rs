@@ -1,11 +1,12 @@
 //! Translation methods: where the body is on the floor, frame by frame, from
-//! its pose. [`paper`] is Hachaj & Ogiela's heuristic exactly as their R code
-//! computes it; [`contact`] is embusen's own. Both return per-frame shifts
+//! its pose. [`hachaj`] is Hachaj & Ogiela's heuristic exactly as their R
+//! code computes it (the user's name for it is `paper`, "the paper's
+//! method"); [`contact`] is embusen's own. Both return per-frame shifts
 //! added to every joint; [`Method`] chooses one and [`Translated`] is its
 //! outcome. May import `io`, `body`, `signal`; nothing above.
 
 pub mod contact;
-pub mod paper;
+pub mod hachaj;
 
 use glam::DVec3;
 
@@ -14,13 +15,13 @@ use crate::body::skeleton::Poses;
 use crate::error::Error;
 use crate::io::recording::{AccelSource, FeetChoice, Recording};
 use contact::{ContactParams, ContactResult, contact_translation};
-use paper::{PaperParams, PaperResult, paper_translation};
+use hachaj::{HachajParams, HachajResult, hachaj_translation};
 
 /// A translation method and its parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Method {
     /// Hachaj & Ogiela's method, as their R code computes it.
-    Paper(PaperParams),
+    Paper(HachajParams),
     /// embusen's contact method (see [`crate::translate::contact`]).
     Contact(ContactParams),
 }
@@ -32,11 +33,40 @@ impl Default for Method {
 }
 
 impl Method {
+    /// Which method this is, without its parameters.
+    pub fn kind(&self) -> MethodKind {
+        match self {
+            Method::Paper(_) => MethodKind::Paper,
+            Method::Contact(_) => MethodKind::Contact,
+        }
+    }
+
     /// `paper` or `contact`.
     pub fn name(&self) -> &'static str {
+        self.kind().name()
+    }
+}
+
+/// The choice of a translation method, as the user makes it: the page's
+/// settings and the app's session carry this; [`Method`] adds the
+/// parameters. (The wasm build derives its TypeScript type for the page.)
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
+#[serde(rename_all = "lowercase")]
+pub enum MethodKind {
+    /// embusen's contact method, the default.
+    #[default]
+    Contact,
+    /// Hachaj & Ogiela's ([`hachaj`]).
+    Paper,
+}
+
+impl MethodKind {
+    /// `paper` or `contact`, as the command line and the page name it.
+    pub fn name(self) -> &'static str {
         match self {
-            Method::Paper(_) => "paper",
-            Method::Contact(_) => "contact",
+            MethodKind::Paper => "paper",
+            MethodKind::Contact => "contact",
         }
     }
 }
@@ -44,7 +74,7 @@ impl Method {
 /// What a method decided, frame by frame, for plots and summaries.
 #[derive(Clone, Debug)]
 pub enum Decisions {
-    Paper(PaperResult),
+    Paper(HachajResult),
     Contact(ContactResult),
 }
 
@@ -75,7 +105,7 @@ pub struct Translated {
 
 impl Translated {
     /// The paper method's decisions, when it was the method.
-    pub fn paper(&self) -> Option<&PaperResult> {
+    pub fn paper(&self) -> Option<&HachajResult> {
         match &self.decisions {
             Decisions::Paper(p) => Some(p),
             Decisions::Contact(_) => None,
@@ -95,11 +125,11 @@ impl Translated {
 // nothing of them.
 impl Recording {
     /// Runs the paper's method.
-    pub fn translate_paper(&self, feet: &FeetChoice, params: &PaperParams) -> Result<Translated, Error> {
+    pub fn translate_paper(&self, feet: &FeetChoice, params: &HachajParams) -> Result<Translated, Error> {
         let feet = self.feet(feet)?;
         let (accel, accel_source) = self.foot_accel_g(feet);
         let paper =
-            paper_translation(&self.poses, feet, accel.as_ref().map(|a| a.as_slice()), self.fps, params)
+            hachaj_translation(&self.poses, feet, accel.as_ref().map(|a| a.as_slice()), self.fps, params)
                 .map_err(|message| Error::whole(&self.name, message))?;
         Ok(Translated {
             poses: self.poses.shifted(&paper.shift_cm),

@@ -13,44 +13,33 @@ use crate::app::session;
 use crate::app::theme;
 use crate::body::shape::{Anchor, BodyShape, Part, ShapeSphere};
 use crate::io::recording::FeetChoice;
+use crate::translate::MethodKind;
 use crate::translate::contact::SOLE_DEPTHS_CM;
-use crate::translate::paper;
-
-/// The translation method.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Tsify)]
-#[serde(rename_all = "lowercase")]
-pub enum Method {
-    Contact,
-    Paper,
-}
-
-/// How the paper method smooths the foot signals (as `paper::Smoothing`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Tsify)]
-#[serde(rename_all = "lowercase")]
-pub enum Smoothing {
-    Faithful,
-    Clean,
-}
+use crate::translate::hachaj::Smoothing;
 
 /// How the original (uncorrected) skeleton is shown: over the corrected one,
 /// beside it, or not at all.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, Tsify)]
 #[serde(rename_all = "lowercase")]
 pub enum Ghost {
+    /// Drawn translucent over the corrected one.
     #[default]
     Overlay,
+    /// Drawn beside it, one body-width to the side.
     Side,
     Hidden,
 }
 
-/// The method settings, as one object. `sole_depth_cm` is the contact
+/// The settings a player's page sets, as one object (the app's
+/// [`session::Settings`] hold every parameter; these are the ones the page
+/// shows). `sole_depth_cm` is the contact
 /// method's (`null`: estimated); `smoothing`, `window_s` and `dy_eps_cm` are
 /// the paper method's; a foot `null` is detected.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Tsify)]
 #[serde(deny_unknown_fields)]
 #[tsify(missing_as_null)]
-pub struct Settings {
-    pub method: Method,
+pub struct PlayerSettings {
+    pub method: MethodKind,
     pub smoothing: Smoothing,
     pub window_s: f64,
     pub dy_eps_cm: f64,
@@ -82,16 +71,17 @@ pub const WINDOW_S: NumberRange = NumberRange { min: 0.05, max: 10.0, step: 0.05
 /// The paper method's height difference that pins a foot (cm).
 pub const DY_EPS_CM: NumberRange = NumberRange { min: 0.0, max: 100.0, step: 0.5 };
 
-impl Settings {
+impl PlayerSettings {
     /// The settings from the page's object; an unknown value or field is an
     /// error that names it. (serde-wasm-bindgen reads a struct's fields by
     /// name and never sees any other, so `deny_unknown_fields` alone would
     /// let a misspelt field pass: the keys are checked here.)
-    pub fn from_js(value: Ts<Settings>) -> Result<Settings, String> {
+    pub fn from_js(value: Ts<PlayerSettings>) -> Result<PlayerSettings, String> {
         let value = value.js_value();
         if let Some(object) = value.dyn_ref::<js_sys::Object>() {
-            let known =
-                Settings::from_session(&session::Settings::default()).into_js().map_err(|e| e.to_string())?;
+            let known = PlayerSettings::from_session(&session::Settings::default())
+                .into_js()
+                .map_err(|e| e.to_string())?;
             let known = js_sys::Object::keys(known.unchecked_ref::<js_sys::Object>());
             for key in js_sys::Object::keys(object).iter() {
                 if !known.includes(&key, 0) {
@@ -101,19 +91,16 @@ impl Settings {
                 }
             }
         }
-        let settings: Settings =
+        let settings: PlayerSettings =
             serde_wasm_bindgen::from_value(value).map_err(|e| format!("settings: {e}"))?;
         Ok(settings)
     }
 
     /// The page's view of the session's settings.
-    pub fn from_session(s: &session::Settings) -> Settings {
-        Settings {
-            method: if s.use_paper { Method::Paper } else { Method::Contact },
-            smoothing: match s.paper.smoothing {
-                paper::Smoothing::Faithful => Smoothing::Faithful,
-                paper::Smoothing::Clean => Smoothing::Clean,
-            },
+    pub fn from_session(s: &session::Settings) -> PlayerSettings {
+        PlayerSettings {
+            method: s.method,
+            smoothing: s.paper.smoothing,
             window_s: s.paper.window_s,
             dy_eps_cm: s.paper.dy_eps_cm,
             sole_depth_cm: s.contact.sole_depth_cm,
@@ -128,11 +115,8 @@ impl Settings {
         WINDOW_S.check("the window", self.window_s)?;
         DY_EPS_CM.check("dyEps", self.dy_eps_cm)?;
         let mut s = base.clone();
-        s.use_paper = self.method == Method::Paper;
-        s.paper.smoothing = match self.smoothing {
-            Smoothing::Faithful => paper::Smoothing::Faithful,
-            Smoothing::Clean => paper::Smoothing::Clean,
-        };
+        s.method = self.method;
+        s.paper.smoothing = self.smoothing;
         s.paper.window_s = self.window_s;
         s.paper.dy_eps_cm = self.dy_eps_cm;
         s.contact.sole_depth_cm = self.sole_depth_cm;
@@ -157,7 +141,7 @@ fn choice<T>(value: T, label: &str) -> Choice<T> {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Tsify)]
 #[tsify(missing_as_null)]
 pub struct Defaults {
-    pub settings: Settings,
+    pub settings: PlayerSettings,
     pub speed: f64,
     pub looping: bool,
     pub follow: bool,
@@ -168,7 +152,7 @@ pub struct Defaults {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Tsify)]
 #[tsify(missing_as_null)]
 pub struct Options {
-    pub methods: Vec<Choice<Method>>,
+    pub methods: Vec<Choice<MethodKind>>,
     pub smoothings: Vec<Choice<Smoothing>>,
     /// The contact method's sole depths (cm) to choose from, besides `null`
     /// (estimated among these).
@@ -190,8 +174,8 @@ impl Options {
         let clock = Clock::default();
         Options {
             methods: vec![
-                choice(Method::Contact, "contact"),
-                choice(Method::Paper, "paper (Hachaj & Ogiela)"),
+                choice(MethodKind::Contact, "contact"),
+                choice(MethodKind::Paper, "paper (Hachaj & Ogiela)"),
             ],
             smoothings: vec![choice(Smoothing::Faithful, "faithful (R)"), choice(Smoothing::Clean, "clean")],
             sole_depths_cm: SOLE_DEPTHS_CM.to_vec(),
@@ -205,7 +189,7 @@ impl Options {
             ],
             take_legend: take_legend(),
             defaults: Defaults {
-                settings: Settings::from_session(&session::Settings::default()),
+                settings: PlayerSettings::from_session(&session::Settings::default()),
                 speed: clock.speed(),
                 looping: clock.looping(),
                 follow: FOLLOW_DEFAULT,
@@ -248,7 +232,7 @@ pub struct Info {
     pub duration_s: f64,
     /// The foot joints in use, detected or chosen.
     pub feet: FootNames,
-    pub method: Method,
+    pub method: MethodKind,
     /// The contact method's; `null` for the paper method and feet without toes.
     pub sole_depth: Option<SoleDepth>,
     /// Where the foot accelerations came from.

@@ -13,7 +13,7 @@ use crate::app::session::{Session, Settings};
 use crate::io::recording::{FeetChoice, Recording};
 use crate::io::table::Accelerations;
 use crate::web::api::{Export, FootNames, Ghost, Info, Options, PlotPanel, SoleDepth};
-use crate::web::scene::{CameraTake, GhostMode, Scene};
+use crate::web::scene::{CameraTake, Scene};
 use crate::web::{api, canvas2d};
 
 /// Every choice the page offers, and the defaults.
@@ -85,7 +85,7 @@ impl Player {
             .map_err(|_| js_error("cannot create a canvas"))?;
         let mut scene = Scene::new(context);
         scene.follow = api::FOLLOW_DEFAULT;
-        scene.ghost_mode = ghost_mode(Ghost::default());
+        scene.ghost = Ghost::default();
         Ok(Player {
             plots_2d: context_2d(&plots)?,
             view,
@@ -245,16 +245,16 @@ impl Player {
     }
 
     /// The method settings in use.
-    pub fn settings(&self) -> Result<Ts<api::Settings>, JsError> {
+    pub fn settings(&self) -> Result<Ts<api::PlayerSettings>, JsError> {
         let session = self.open_session()?;
-        Ok(api::Settings::from_session(&session.settings).into_ts()?)
+        Ok(api::PlayerSettings::from_session(&session.settings).into_ts()?)
     }
 
     /// Changes the method settings and recomputes; on error (an unknown
     /// value or field, a value out of range, a foot that is no joint)
     /// nothing changes.
-    pub fn set_settings(&mut self, settings: Ts<api::Settings>) -> Result<(), JsError> {
-        let settings = api::Settings::from_js(settings).map_err(js_error)?;
+    pub fn set_settings(&mut self, settings: Ts<api::PlayerSettings>) -> Result<(), JsError> {
+        let settings = api::PlayerSettings::from_js(settings).map_err(js_error)?;
         let Some(session) = &mut self.session else { return Err(js_error("no recording is open")) };
         let settings = settings.apply_to(&session.settings).map_err(js_error)?;
         session.set_settings(settings).map_err(js_error)?;
@@ -403,7 +403,7 @@ impl Player {
 
     /// How the original skeleton is shown; an unknown mode is an error.
     pub fn set_ghost(&mut self, mode: Ts<Ghost>) -> Result<(), JsError> {
-        self.scene.ghost_mode = ghost_mode(mode.to_rust()?);
+        self.scene.ghost = mode.to_rust()?;
         self.scene_dirty = true;
         Ok(())
     }
@@ -442,7 +442,7 @@ impl Player {
                 left: names[s.translated.feet.left].clone(),
                 right: names[s.translated.feet.right].clone(),
             },
-            method: api::Settings::from_session(&s.settings).method,
+            method: s.settings.method,
             sole_depth,
             accel_source: s.translated.accel_source.to_string(),
             warnings: s.recording.warnings.iter().chain(s.translated.decisions.warnings()).cloned().collect(),
@@ -468,14 +468,6 @@ impl Player {
     pub fn export_hips_csv(&self) -> Result<Ts<Export>, JsError> {
         let (name, text) = self.open_session()?.export_hips_csv();
         Ok(Export { name, text }.into_ts()?)
-    }
-}
-
-fn ghost_mode(ghost: Ghost) -> GhostMode {
-    match ghost {
-        Ghost::Overlay => GhostMode::Overlay,
-        Ghost::Side => GhostMode::SideBySide,
-        Ghost::Hidden => GhostMode::Hidden,
     }
 }
 

@@ -19,16 +19,7 @@ use crate::app::theme::{self, Rgba};
 use crate::body::feet::Foot;
 use crate::body::shape::BodyShape;
 use crate::body::skeleton::Poses;
-
-/// How the original (uncorrected) skeleton is shown.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum GhostMode {
-    /// Drawn translucent over the corrected one.
-    Overlay,
-    /// Drawn beside it, one body-width to the side.
-    SideBySide,
-    Hidden,
-}
+use crate::web::api::Ghost;
 
 const CM_TO_M: f32 = 0.01;
 const BONE_RADIUS_M: f32 = 0.018;
@@ -89,7 +80,7 @@ pub struct Scene {
     camera: Camera,
     orbit: Orbit,
     pub follow: bool,
-    pub ghost_mode: GhostMode,
+    pub ghost: Ghost,
     /// Rotation that stands the recording up (Z-up files) in three-d's Y-up world.
     world_from_recording: Mat4,
     joints: Gm<InstancedMesh, PhysicalMaterial>,
@@ -248,7 +239,7 @@ impl Scene {
             camera,
             orbit: Orbit { target: vec3(0.0, 1.0, 0.0), yaw: 0.6, pitch: 0.35, distance_m: 6.0 },
             follow: false,
-            ghost_mode: GhostMode::Overlay,
+            ghost: Ghost::Overlay,
             world_from_recording: Mat4::identity(),
             side_offset: vec3(1.2, 0.0, 0.0),
             take: None,
@@ -414,10 +405,10 @@ impl Scene {
         if let Some(shift_cm) = take_shift_cm {
             self.set_body(original, f, shift_cm);
         }
-        if self.ghost_mode != GhostMode::Hidden {
+        if self.ghost != Ghost::Hidden {
             let ghost: Vec<Vec3> = original.frame(f).iter().map(|p| self.to_world(*p)).collect();
-            let offset = match (self.ghost_mode, solid.get(self.hips), ghost.get(self.hips)) {
-                (GhostMode::SideBySide, Some(solid), Some(ghost)) => *solid + self.side_offset - *ghost,
+            let offset = match (self.ghost, solid.get(self.hips), ghost.get(self.hips)) {
+                (Ghost::Side, Some(solid), Some(ghost)) => *solid + self.side_offset - *ghost,
                 _ => Vec3::new(0.0, 0.0, 0.0),
             };
             let (gj, gb) = self.skeleton_instances(&ghost, parents, offset);
@@ -524,7 +515,7 @@ impl Scene {
                 bodies.push(&self.body);
             }
         }
-        if self.ghost_mode != GhostMode::Hidden {
+        if self.ghost != Ghost::Hidden {
             bodies.extend([&self.ghost_joints as &dyn Object, &self.ghost_bones]);
         }
         target.render(&self.camera, bodies, &lights);

@@ -12,7 +12,7 @@ use embusen::io::recording::{FeetChoice, Recording};
 use embusen::io::table::Accelerations;
 use embusen::synth::demo;
 use embusen::translate::contact::{ContactParams, Support};
-use embusen::translate::paper::{PaperParams, Smoothing};
+use embusen::translate::hachaj::{HachajParams, Smoothing};
 use embusen::translate::{Decisions, Method, Translated};
 
 #[derive(Parser)]
@@ -108,10 +108,10 @@ struct TranslateArgs {
     #[arg(long, value_enum, default_value = "faithful")]
     smoothing: SmoothingArg,
     /// Paper method: smoothing window in seconds.
-    #[arg(long, default_value_t = PaperParams::default().window_s)]
+    #[arg(long, default_value_t = HachajParams::default().window_s)]
     window_s: f64,
     /// Paper method: minimum smoothed foot height difference (cm) for pass 2 to pin the lower foot.
-    #[arg(long, default_value_t = PaperParams::default().dy_eps_cm)]
+    #[arg(long, default_value_t = HachajParams::default().dy_eps_cm)]
     dy_eps: f64,
     /// Contact method: how far (cm) the sole lies below the foot's lowest
     /// joint when the foot stands flat (0 when that joint is a toe end site on
@@ -226,7 +226,7 @@ fn run_eval(
     if !suit_pairs.is_empty() {
         failed += eval_suits(&suit_pairs);
     }
-    let methods = [Method::Paper(PaperParams::default()), Method::default()];
+    let methods = [Method::Paper(HachajParams::default()), Method::default()];
     let closure_files = expand(closure);
     if !closure_files.is_empty() {
         println!("katas: hips floor distance between the first and last frame, vendor translation removed");
@@ -404,14 +404,14 @@ fn run_translate(args: &TranslateArgs) -> ExitCode {
             }
             Method::Contact(params)
         }
-        MethodArg::Paper => Method::Paper(PaperParams {
+        MethodArg::Paper => Method::Paper(HachajParams {
             window_s: args.window_s,
             dy_eps_cm: args.dy_eps,
             smoothing: match args.smoothing {
                 SmoothingArg::Faithful => Smoothing::Faithful,
                 SmoothingArg::Clean => Smoothing::Clean,
             },
-            ..PaperParams::default()
+            ..HachajParams::default()
         }),
     };
     let feet = FeetChoice { left: args.left_foot.clone(), right: args.right_foot.clone() };
@@ -522,7 +522,7 @@ fn run_demo() -> ExitCode {
     );
     println!("  true hips floor path {:.2} m", floor_path_cm(&demo.true_root_cm) / 100.0);
     let mut errors = Vec::new();
-    for method in [Method::default(), Method::Paper(PaperParams::default())] {
+    for method in [Method::default(), Method::Paper(HachajParams::default())] {
         let (translated, error) = match evaluate_demo(&demo, &method) {
             Ok(t) => t,
             Err(e) => {

@@ -28,8 +28,11 @@ use crate::body::feet::{Foot, FootJoints, PerFoot};
 use crate::body::skeleton::Poses;
 use crate::signal::smoothing::{smooth_gaussian_clean, smooth_r_gaussian};
 
-/// How the foot signals are smoothed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+/// How the foot signals are smoothed. (The wasm build derives its
+/// TypeScript type for the page's settings.)
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(target_arch = "wasm32", derive(tsify::Tsify))]
+#[serde(rename_all = "lowercase")]
 pub enum Smoothing {
     /// R `smoother::smth.gaussian` exactly as RMoCap calls it: the window is a
     /// fraction of the recording, and the first and last half window are set
@@ -42,9 +45,9 @@ pub enum Smoothing {
     Clean,
 }
 
-/// Parameters of [`paper_translation`]; the defaults are RMoCap's.
+/// Parameters of [`hachaj_translation`]; the defaults are RMoCap's.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct PaperParams {
+pub struct HachajParams {
     /// Length of the Gaussian smoothing window, in seconds (RMoCap: 100 frames at 100 Hz).
     pub window_s: f64,
     /// Pass 2 pins a foot only where the smoothed foot heights differ by more than this.
@@ -57,9 +60,9 @@ pub struct PaperParams {
     pub ground_cm: Option<f64>,
 }
 
-impl Default for PaperParams {
+impl Default for HachajParams {
     fn default() -> Self {
-        PaperParams {
+        HachajParams {
             window_s: 1.0,
             dy_eps_cm: 5.0,
             alpha: 2.5,
@@ -69,10 +72,10 @@ impl Default for PaperParams {
     }
 }
 
-/// What [`paper_translation`] computed. Per-frame vectors have one entry per
+/// What [`hachaj_translation`] computed. Per-frame vectors have one entry per
 /// frame.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct PaperResult {
+pub struct HachajResult {
     /// The translation to add to every joint of each frame (all three passes).
     pub shift_cm: Vec<DVec3>,
     /// Smoothed accelerometer magnitudes of the feet (pass 1's signal).
@@ -106,13 +109,13 @@ pub struct PaperResult {
 /// position, acceleration or parameter is not finite, or the recording is too
 /// short (`Faithful` needs 4 frames, `Clean` 2). A `Faithful` window longer
 /// than the recording is shortened to half of it, with a warning.
-pub fn paper_translation(
+pub fn hachaj_translation(
     poses: &Poses,
     feet: FootJoints,
     foot_accel_g: PerFoot<&[f64]>,
     fps: f64,
-    params: &PaperParams,
-) -> Result<PaperResult, String> {
+    params: &HachajParams,
+) -> Result<HachajResult, String> {
     let n = poses.frame_count();
     check_inputs(poses, feet, foot_accel_g, fps, params)?;
     poses.check_positions()?;
@@ -177,7 +180,7 @@ pub fn paper_translation(
         shift_cm.push(total[f] + DVec3::new(0.0, dy_cm, 0.0));
     }
 
-    Ok(PaperResult {
+    Ok(HachajResult {
         shift_cm,
         accel_smoothed_g,
         heights_smoothed_cm,
@@ -195,7 +198,7 @@ fn check_inputs(
     feet: FootJoints,
     foot_accel_g: PerFoot<&[f64]>,
     fps: f64,
-    params: &PaperParams,
+    params: &HachajParams,
 ) -> Result<(), String> {
     let n = poses.frame_count();
     for (foot, &joint) in feet.iter() {
@@ -326,9 +329,9 @@ mod tests {
         let poses = walk(n, drift, |f| drift(f) + DVec3::new(20.0, 10.0, 0.0));
         let left = vec![1.0; n];
         let right = vec![1.5; n];
-        let params = PaperParams { smoothing: Smoothing::Clean, ..Default::default() };
+        let params = HachajParams { smoothing: Smoothing::Clean, ..Default::default() };
         let result =
-            paper_translation(&poses, FEET, PerFoot::new(&left[..], &right[..]), 100.0, &params).unwrap();
+            hachaj_translation(&poses, FEET, PerFoot::new(&left[..], &right[..]), 100.0, &params).unwrap();
         assert!(result.pass1_pinned[1..].iter().all(|&p| p == Some(Foot::Left)));
         let moved = poses.shifted(&result.shift_cm);
         for f in 0..n {
@@ -346,12 +349,12 @@ mod tests {
         let poses = walk(n, |f| DVec3::new(f as f64, 0.0, 0.0), |_| DVec3::new(0.0, 10.0, 0.0));
         let left = vec![1.0; n];
         let right = vec![1.5; n];
-        let result = paper_translation(
+        let result = hachaj_translation(
             &poses,
             FEET,
             PerFoot::new(&left[..], &right[..]),
             100.0,
-            &PaperParams::default(),
+            &HachajParams::default(),
         )
         .unwrap();
         assert!(result.pass1_pinned[..51].iter().all(Option::is_none));
@@ -365,10 +368,10 @@ mod tests {
         let n = 300;
         let poses = walk(n, |_| DVec3::ZERO, |_| DVec3::ZERO);
         let ok = vec![1.0; n];
-        let p = PaperParams::default();
-        assert!(paper_translation(&poses, FEET, PerFoot::new(&ok[..], &ok[1..]), 100.0, &p).is_err());
+        let p = HachajParams::default();
+        assert!(hachaj_translation(&poses, FEET, PerFoot::new(&ok[..], &ok[1..]), 100.0, &p).is_err());
         assert!(
-            paper_translation(
+            hachaj_translation(
                 &poses,
                 FootJoints { left: 0, right: 7 },
                 PerFoot::new(&ok[..], &ok[..]),
@@ -379,18 +382,18 @@ mod tests {
         );
         let mut nan = ok.clone();
         nan[5] = f64::NAN;
-        assert!(paper_translation(&poses, FEET, PerFoot::new(&ok[..], &nan[..]), 100.0, &p).is_err());
-        assert!(paper_translation(&poses, FEET, PerFoot::new(&ok[..], &ok[..]), 0.0, &p).is_err());
+        assert!(hachaj_translation(&poses, FEET, PerFoot::new(&ok[..], &nan[..]), 100.0, &p).is_err());
+        assert!(hachaj_translation(&poses, FEET, PerFoot::new(&ok[..], &ok[..]), 0.0, &p).is_err());
         // 300 frames at 400 fps is shorter than the 400-frame window: the
         // window is halved to fit, and the result says so.
-        let short = paper_translation(&poses, FEET, PerFoot::new(&ok[..], &ok[..]), 400.0, &p).unwrap();
+        let short = hachaj_translation(&poses, FEET, PerFoot::new(&ok[..], &ok[..]), 400.0, &p).unwrap();
         assert!(short.warnings[0].contains("using 150 frames"), "{:?}", short.warnings);
         let three = walk(3, |_| DVec3::ZERO, |_| DVec3::ZERO);
-        assert!(paper_translation(&three, FEET, PerFoot::new(&ok[..3], &ok[..3]), 100.0, &p).is_err());
-        let clean = PaperParams { smoothing: Smoothing::Clean, ..p };
-        assert!(paper_translation(&poses, FEET, PerFoot::new(&ok[..], &ok[..]), 400.0, &clean).is_ok());
+        assert!(hachaj_translation(&three, FEET, PerFoot::new(&ok[..3], &ok[..3]), 100.0, &p).is_err());
+        let clean = HachajParams { smoothing: Smoothing::Clean, ..p };
+        assert!(hachaj_translation(&poses, FEET, PerFoot::new(&ok[..], &ok[..]), 400.0, &clean).is_ok());
         let mut bad_pose = poses.clone();
         bad_pose.positions_cm[3] = DVec3::new(f64::INFINITY, 0.0, 0.0);
-        assert!(paper_translation(&bad_pose, FEET, PerFoot::new(&ok[..], &ok[..]), 100.0, &p).is_err());
+        assert!(hachaj_translation(&bad_pose, FEET, PerFoot::new(&ok[..], &ok[..]), 100.0, &p).is_err());
     }
 }
