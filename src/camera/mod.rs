@@ -24,7 +24,9 @@ pub mod calibrate;
 #[cfg(feature = "board")]
 pub mod charuco;
 pub mod floor_rectangle;
+pub mod homography;
 pub mod json;
+pub mod least_squares;
 pub mod pinhole;
 pub mod rotation;
 
