@@ -43,6 +43,11 @@ pub const SOURCE: &str = "floor rectangle";
 /// points do not tell the focal length and it must be given.
 pub const FOCAL_SIGMA_LIMIT: f64 = 0.1;
 
+/// Why no focal length was estimated.
+const NO_FOCAL_LENGTH: &str = "no focal length makes these four points a rectangle of that size (a \
+                               fronto-parallel view, or the wrong size); give the focal length or the \
+                               field of view";
+
 /// Corners closer than this (px) to the line through their neighbours are
 /// collinear: a click is no better than a pixel.
 const MIN_CORNER_HEIGHT_PX: f64 = 1.0;
@@ -131,15 +136,8 @@ impl FloorRectangle {
                 return Err(fail(format!("the field of view must lie between 0 and 180°, not {fov}°")));
             }
             FocalLength::Unknown => {
-                focal_from_homography(&homography, FocalSolve::HalfDiagonal { size: image_size }).ok_or_else(
-                    || {
-                        fail(
-                        "no focal length makes these four points a rectangle of that size (a fronto-parallel \
-                         view, or the wrong size); give the focal length or the field of view"
-                            .into(),
-                    )
-                    },
-                )?
+                let solve = FocalSolve::HalfDiagonal { size: image_size };
+                focal_from_homography(&homography, solve).ok_or_else(|| fail(NO_FOCAL_LENGTH.into()))?
             }
         };
         let degenerate = || fail("the reprojection could not be minimised (a degenerate view)".into());

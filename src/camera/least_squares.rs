@@ -420,3 +420,53 @@ impl<F: Fn(&[f64], &mut Vec<f64>)> LeastSquares for CentralDifferences<F> {
         params.iter().zip(delta).map(|(p, d)| p + d).collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SPD: [f64; 9] = [4.0, 1.0, 0.5, 1.0, 3.0, 0.25, 0.5, 0.25, 2.0];
+
+    #[test]
+    fn both_solves_agree_and_eigenvectors_are_eigenvectors() {
+        let b = [1.0, -2.0, 0.5];
+        let x = solve_positive(&SPD, &b, 3).unwrap();
+        let y = solve_pivoting(&SPD, &b, 3).unwrap();
+        for i in 0..3 {
+            let ax: f64 = (0..3).map(|k| SPD[i * 3 + k] * x[k]).sum();
+            assert!((ax - b[i]).abs() < 1e-12 && (x[i] - y[i]).abs() < 1e-12);
+        }
+        let singular = [1.0, 2.0, 2.0, 4.0];
+        assert_eq!(solve_positive(&singular, &[1.0, 1.0], 2), None);
+        assert_eq!(solve_pivoting(&singular, &[1.0, 1.0], 2), None);
+        let (values, vectors) = symmetric_eigen(&SPD, 3);
+        for (i, value) in values.iter().enumerate() {
+            let v = &vectors[i * 3..i * 3 + 3];
+            for row in 0..3 {
+                let av: f64 = (0..3).map(|k| SPD[row * 3 + k] * v[k]).sum();
+                assert!((av - value * v[row]).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn either_rule_fits_a_curve() {
+        // y = 2 e^(−0.7 x), sampled without noise.
+        let xs: Vec<f64> = (0..12).map(|i| i as f64 * 0.5).collect();
+        let problem = CentralDifferences {
+            unknowns: 2,
+            residuals: |p: &[f64], out: &mut Vec<f64>| {
+                out.clear();
+                out.extend(xs.iter().map(|&x| p[0] * libm::exp(p[1] * x) - 2.0 * libm::exp(-0.7 * x)));
+            },
+        };
+        for rules in [Damping::BOARD, Damping::FLOOR] {
+            let (fitted, r) = minimise(&problem, vec![1.0, 0.0], &rules).unwrap();
+            assert!(
+                (fitted[0] - 2.0).abs() < 1e-6 && (fitted[1] + 0.7).abs() < 1e-6,
+                "{rules:?}: {fitted:?}"
+            );
+            assert!(r.iter().all(|x| x.abs() < 1e-6));
+        }
+    }
+}
