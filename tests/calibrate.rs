@@ -230,3 +230,45 @@ fn four_floor_corners_give_the_camera_by_hand() {
     let said = text(&run.stderr);
     assert!(!run.status.success() && said.starts_with("error: floor rectangle"), "{said}");
 }
+
+/// A lens for another image size is refused, by `calibrate --intrinsics`
+/// and by `track --board --intrinsics` alike (both go through
+/// `app::calibration`, as the page does): an error naming the still,
+/// never a camera posed with the wrong pixels.
+#[test]
+fn a_lens_of_another_size_is_refused_by_calibrate_and_track() {
+    let Some(data) = common::data_dir() else { return };
+    let optical = data.join("optical");
+    let dir = scratch("other-size");
+    let mut lens: Value =
+        serde_json::from_str(&std::fs::read_to_string(optical.join("walk.camera.json")).unwrap()).unwrap();
+    lens["image_size"]["width"] = 320.into();
+    let lens_path = dir.join("half.camera.json");
+    std::fs::write(&lens_path, serde_json::to_string(&lens).unwrap()).unwrap();
+    let (still, lens_arg) = (optical.join("walk.board.png"), lens_path.to_str().unwrap());
+    let still = still.to_str().unwrap();
+    let expected = format!("error: {still}: the still is 640×480 px, the intrinsics are for 320×480\n");
+
+    let out = dir.join("camera.json");
+    let run = embusen(&["calibrate", still, "--intrinsics", lens_arg, "-o", out.to_str().unwrap()]);
+    assert!(!run.status.success() && !out.exists());
+    assert_eq!(text(&run.stderr), expected);
+
+    let (video, bvh) = (optical.join("walk.mp4"), optical.join("walk.suit.bvh"));
+    let tracked = dir.join("tracked.bvh");
+    let run = embusen(&[
+        "track",
+        video.to_str().unwrap(),
+        "--bvh",
+        bvh.to_str().unwrap(),
+        "--board",
+        still,
+        "--intrinsics",
+        lens_arg,
+        "-o",
+        tracked.to_str().unwrap(),
+    ]);
+    assert!(!run.status.success() && !tracked.exists());
+    assert_eq!(text(&run.stderr), expected);
+    let _ = std::fs::remove_dir_all(&dir);
+}

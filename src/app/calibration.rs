@@ -1,7 +1,9 @@
 //! The camera from a still of a ChArUco board on the floor, as the app and
-//! `embusen calibrate` both make it: the still decoded to grey (as every
-//! still is, `io::image_file`), the board found (`camera::charuco`), the pose
-//! (and without a lens given, the focal length) fitted (`camera::calibrate`);
+//! `embusen calibrate` (and `embusen track --board`) all make it: the still
+//! decoded to grey (as every still is, `io::image_file`), the board found
+//! (`camera::charuco`), the pose (and without a lens given, the focal
+//! length) fitted (`camera::calibrate`), a lens given checked against the
+//! still's size;
 //! and the floor grid drawn over a picture to check a camera by eye, and the
 //! camera drawn where it stands in the 3D view.
 
@@ -34,6 +36,16 @@ pub struct StillCalibration {
     pub size: ImageSize,
 }
 
+/// A still decoded and the board found in it: the first half of
+/// [`calibrate_from_still`], for a caller that reports what was found
+/// before the camera is fitted (`embusen calibrate`).
+#[cfg(feature = "board")]
+#[derive(Clone, Debug)]
+pub struct BoardInStill {
+    pub detection: Detection,
+    pub size: ImageSize,
+}
+
 /// The camera that took `still` (a PNG) of `board` on the floor: its pose
 /// with `lens`'s intrinsics when given (an error when the still is of
 /// another size), else its focal length too, from this one view, the
@@ -45,26 +57,50 @@ pub fn calibrate_from_still(
     board: &Board,
     lens: Option<&Camera>,
 ) -> Result<StillCalibration, Error> {
+    let found = find_board_in_still(still, board)?;
+    let calibration = calibrate_from_board_in_still(still.name, board, &found, lens, LensFit::default())?;
+    Ok(StillCalibration { calibration, detection: found.detection, size: found.size })
+}
+
+/// `still` (a PNG) decoded to grey as every still is, and `board` found in
+/// it; an error naming the still when it is not.
+#[cfg(feature = "board")]
+pub fn find_board_in_still(still: NamedBytes, board: &Board) -> Result<BoardInStill, Error> {
     let grey = png_to_grey(still.bytes, still.name)?;
     let size = ImageSize { width_px: grey.width_px, height_px: grey.height_px };
     let detection = detect(board, &grey.pixels, size, still.name)?;
-    let view = BoardView { file: still.name, board, corners: &detection.corners };
-    let calibration = match lens {
+    Ok(BoardInStill { detection, size })
+}
+
+/// The camera from the board `found` in the still `still_name`: posed with
+/// `lens` when given (an error when the still is not of its image size),
+/// else its focal length too (and `k1` when `lens_fit` says), the principal
+/// point at the image's centre.
+#[cfg(feature = "board")]
+pub fn calibrate_from_board_in_still(
+    still_name: &str,
+    board: &Board,
+    found: &BoardInStill,
+    lens: Option<&Camera>,
+    lens_fit: LensFit,
+) -> Result<Calibration, Error> {
+    let size = found.size;
+    let view = BoardView { file: still_name, board, corners: &found.detection.corners };
+    match lens {
         Some(lens) => {
             if lens.image_size != size {
                 return Err(Error::whole(
-                    still.name,
+                    still_name,
                     format!(
                         "the still is {}×{} px, the intrinsics are for {}×{}",
                         size.width_px, size.height_px, lens.image_size.width_px, lens.image_size.height_px
                     ),
                 ));
             }
-            calibrate_pose(&view, lens)?
+            calibrate_pose(&view, lens)
         }
-        None => calibrate_one_view(&view, size, LensFit::default())?,
-    };
-    Ok(StillCalibration { calibration, detection, size })
+        None => calibrate_one_view(&view, size, lens_fit),
+    }
 }
 
 /// The floor's grid lines as `camera` sees them: lines every `spacing_cm`

@@ -36,7 +36,7 @@ use calib_targets::charuco::{
 use glam::{DMat3, DVec2};
 
 use super::board::{Board, BoardCorner};
-use super::calibrate::homography;
+use super::homography::homography;
 use super::pinhole::ImageSize;
 use crate::error::Error;
 

@@ -29,6 +29,8 @@
 
 use glam::{DAffine3, DMat3, DVec2, DVec3};
 
+use super::homography::{FocalSolve, PoseFit, focal_from_homography, pose_from_homography, square_to_quad};
+use super::least_squares::{Damping, LeastSquares, minimise, solve_pivoting};
 use super::rotation::{rotation_from_rodrigues, skew};
 use super::{Camera, Distortion, ImageSize, Intrinsics};
 use crate::error::Error;
@@ -40,6 +42,11 @@ pub const SOURCE: &str = "floor rectangle";
 /// per pixel of click error, as a standard deviation; above it the four
 /// points do not tell the focal length and it must be given.
 pub const FOCAL_SIGMA_LIMIT: f64 = 0.1;
+
+/// Why no focal length was estimated.
+const NO_FOCAL_LENGTH: &str = "no focal length makes these four points a rectangle of that size (a \
+                               fronto-parallel view, or the wrong size); give the focal length or the \
+                               field of view";
 
 /// Corners closer than this (px) to the line through their neighbours are
 /// collinear: a click is no better than a pixel.
@@ -128,14 +135,19 @@ impl FloorRectangle {
             FocalLength::HorizontalFovDeg(fov) => {
                 return Err(fail(format!("the field of view must lie between 0 and 180°, not {fov}°")));
             }
-            FocalLength::Unknown => focal_of_homography(homography, image_size).map_err(fail)?,
+            FocalLength::Unknown => {
+                let solve = FocalSolve::HalfDiagonal { size: image_size };
+                focal_from_homography(&homography, solve).ok_or_else(|| fail(NO_FOCAL_LENGTH.into()))?
+            }
         };
-        let pose = pose_of_homography(homography, focal_px);
+        let degenerate = || fail("the reprojection could not be minimised (a degenerate view)".into());
+        let normalised_from_image = DMat3::from_diagonal(DVec3::new(1.0 / focal_px, 1.0 / focal_px, 1.0));
+        let pose = pose_from_homography(&homography, &normalised_from_image, PoseFit::SymmetricXz)
+            .ok_or_else(degenerate)?;
 
         let refine_focal = focal == FocalLength::Unknown;
         let world = self.corners_in_world();
-        let fit = refine(pose, focal_px, &world, &centred, refine_focal)
-            .ok_or_else(|| fail("the reprojection could not be minimised (a degenerate view)".into()))?;
+        let fit = refine(pose, focal_px, &world, &centred, refine_focal).ok_or_else(degenerate)?;
 
         let camera = Camera {
             image_size,
@@ -232,57 +244,9 @@ fn crosses(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
     side(a, b, c) * side(a, b, d) < 0.0 && side(c, d, a) * side(c, d, b) < 0.0
 }
 
-/// The homography (columns u, v, 1) that takes the unit square's corners
-/// (0,0), (1,0), (1,1), (0,1) to `q` (Heckbert's closed form), its bottom
-/// right entry 1. `q` is a convex quadrilateral (checked before).
-fn square_to_quad(q: &[DVec2; 4]) -> DMat3 {
-    let sum = q[0] - q[1] + q[2] - q[3];
-    let (d1, d2) = (q[1] - q[2], q[3] - q[2]);
-    let det = d1.perp_dot(d2);
-    let g = sum.perp_dot(d2) / det;
-    let h = d1.perp_dot(sum) / det;
-    DMat3::from_cols((q[1] - q[0] + g * q[1]).extend(g), (q[3] - q[0] + h * q[3]).extend(h), q[0].extend(1.0))
-}
-
-/// The focal length (px) for which the homography's first two columns are
-/// orthogonal and of equal length after `K⁻¹`, as least squares in
-/// `ω = (s / f)²` (`s` the image's half diagonal, so that ω is near 1).
-fn focal_of_homography(homography: DMat3, size: ImageSize) -> Result<f64, String> {
-    let s = 0.5 * DVec2::new(size.width_px as f64, size.height_px as f64).length();
-    let scaled = DMat3::from_diagonal(DVec3::new(1.0 / s, 1.0 / s, 1.0)) * homography;
-    let (a, b) = (scaled.x_axis, scaled.y_axis);
-    // ω (a.x b.x + a.y b.y) + a.z b.z = 0 and ω (|a.xy|² − |b.xy|²) + a.z² − b.z² = 0.
-    let rows = [
-        (a.x * b.x + a.y * b.y, a.z * b.z),
-        (a.x * a.x + a.y * a.y - b.x * b.x - b.y * b.y, a.z * a.z - b.z * b.z),
-    ];
-    let omega =
-        -(rows[0].0 * rows[0].1 + rows[1].0 * rows[1].1) / (rows[0].0 * rows[0].0 + rows[1].0 * rows[1].0);
-    if !(omega > 0.0 && omega.is_finite()) {
-        return Err(
-            "no focal length makes these four points a rectangle of that size (a fronto-parallel view, or \
-                    the wrong size); give the focal length or the field of view"
-                .into(),
-        );
-    }
-    Ok(s / omega.sqrt())
-}
-
-/// The camera pose of a floor-to-centred-pixel homography: `K⁻¹H ∝ [r₁ r₃ t]`,
-/// the two axes made orthonormal symmetrically (each turned half the way).
-fn pose_of_homography(homography: DMat3, focal_px: f64) -> DAffine3 {
-    let normalised = DMat3::from_diagonal(DVec3::new(1.0 / focal_px, 1.0 / focal_px, 1.0)) * homography;
-    let (h1, h3, t) = (normalised.x_axis, normalised.y_axis, normalised.z_axis);
-    // H's bottom-right entry is 1 > 0: the origin is in front with λ > 0.
-    let scale = 0.5 * (h1.length() + h3.length());
-    let (a, b) = (h1.normalize(), h3.normalize());
-    let (sum, difference) = ((a + b).normalize(), (a - b).normalize());
-    let x = (sum + difference) * std::f64::consts::FRAC_1_SQRT_2;
-    let z = (sum - difference) * std::f64::consts::FRAC_1_SQRT_2;
-    DAffine3::from_mat3_translation(DMat3::from_cols(x, z.cross(x), z), t / scale)
-}
-
-struct Fit {
+/// The camera refined to the four corners, with how far a pixel of click
+/// error moves it.
+struct FloorFit {
     pose: DAffine3,
     focal_px: f64,
     rms_px: f64,
@@ -290,43 +254,30 @@ struct Fit {
     focal_sigma: Option<f64>,
 }
 
-/// Levenberg–Marquardt (Marquardt's diagonal damping, divided by 3 after a
-/// better step, multiplied by 2, 4, 8, … after worse ones) on the pose, as
-/// left-multiplied rotation increments and a translation, and on the focal
-/// length when `with_focal`:
-/// minimises Σ |projected − clicked|² over the corners (`centred`: pixels
-/// less the principal point).
-fn refine(
-    start: DAffine3,
-    focal_px: f64,
-    world: &[DVec3; 4],
-    centred: &[DVec2; 4],
+/// The reprojection of the four corners as a least-squares problem: the
+/// pose as left-multiplied rotation increments and a translation, and the
+/// focal length when `with_focal`; `Σ |projected − clicked|²` over the
+/// corners (`centred`: pixels less the principal point).
+struct FloorCorners<'a> {
+    world: &'a [DVec3; 4],
+    centred: &'a [DVec2; 4],
     with_focal: bool,
-) -> Option<Fit> {
-    let n = if with_focal { 7 } else { 6 };
-    // Parameters in units where one step of 1 is comparable for all: the
-    // translation in units of the camera's distance, the focal in its own.
-    let t_unit = start.translation.length().max(1.0);
-    let f_unit = focal_px;
-    let residuals = |pose: &DAffine3, f: f64| -> Option<[f64; 8]> {
-        let mut r = [0.0; 8];
-        for i in 0..4 {
-            let p = pose.transform_point3(world[i]);
-            if p.z.is_nan() || p.z <= 1e-9 {
-                return None;
-            }
-            r[2 * i] = f * p.x / p.z - centred[i].x;
-            r[2 * i + 1] = f * p.y / p.z - centred[i].y;
-        }
-        Some(r)
-    };
-    let cost = |r: &[f64; 8]| r.iter().map(|x| x * x).sum::<f64>();
-    let normal = |pose: &DAffine3, f: f64, r: &[f64; 8]| {
+    /// Units in which a step of 1 is comparable for all unknowns: the
+    /// translation in units of the camera's distance, the focal length in
+    /// its own.
+    t_unit: f64,
+    f_unit: f64,
+}
+
+impl FloorCorners<'_> {
+    /// `(JᵀJ, Jᵀr)` in the leading `unknowns() × unknowns()` block of 7.
+    fn normal(&self, pose: &DAffine3, f: f64, r: &[f64]) -> ([[f64; 7]; 7], [f64; 7]) {
+        let n = self.unknowns();
         let mut a = [[0.0; 7]; 7];
         let mut g = [0.0; 7];
         for i in 0..4 {
-            let p = pose.transform_point3(world[i]);
-            let rotated = pose.matrix3 * world[i];
+            let p = pose.transform_point3(self.world[i]);
+            let rotated = pose.matrix3 * self.world[i];
             let d_pixel = [
                 DVec3::new(f / p.z, 0.0, -f * p.x / (p.z * p.z)),
                 DVec3::new(0.0, f / p.z, -f * p.y / (p.z * p.z)),
@@ -336,8 +287,8 @@ fn refine(
                 let d_rotation = -(skew(rotated).transpose() * *dp);
                 let mut row = [0.0; 7];
                 row[..3].copy_from_slice(&d_rotation.to_array());
-                row[3..6].copy_from_slice(&(*dp * t_unit).to_array());
-                row[6] = if k == 0 { p.x / p.z } else { p.y / p.z } * f_unit;
+                row[3..6].copy_from_slice(&(*dp * self.t_unit).to_array());
+                row[6] = if k == 0 { p.x / p.z } else { p.y / p.z } * self.f_unit;
                 let residual = r[2 * i + k];
                 for j in 0..n {
                     g[j] += row[j] * residual;
@@ -348,61 +299,73 @@ fn refine(
             }
         }
         (a, g)
-    };
-    let step = |pose: &DAffine3, f: f64, delta: &[f64; 7]| {
-        let turn = rotation_from_rodrigues(DVec3::new(delta[0], delta[1], delta[2]));
-        let moved = DVec3::new(delta[3], delta[4], delta[5]) * t_unit;
-        let pose = DAffine3::from_mat3_translation(turn * pose.matrix3, pose.translation + moved);
-        (pose, if with_focal { f + delta[6] * f_unit } else { f })
-    };
+    }
+}
 
-    let (mut pose, mut f) = (start, focal_px);
-    let mut r = residuals(&pose, f)?;
-    let mut damping = 1e-3;
-    let mut growth = 2.0;
-    for _ in 0..200 {
-        let (a, g) = normal(&pose, f, &r);
-        let mut damped = a;
-        for j in 0..n {
-            damped[j][j] += damping * a[j][j].max(1e-12);
-        }
-        let Some(delta) = solve(damped, g.map(|x| -x), n) else { break };
-        let (next_pose, next_f) = step(&pose, f, &delta);
-        let next = residuals(&next_pose, next_f).filter(|_| next_f > 0.0);
-        let improved = next.filter(|next| cost(next) < cost(&r));
-        match improved {
-            Some(next) => {
-                let small = delta.iter().take(n).all(|d| d.abs() < 1e-15);
-                (pose, f, r) = (next_pose, next_f, next);
-                damping = (damping / 3.0).max(1e-15);
-                growth = 2.0;
-                if small {
-                    break;
-                }
-            }
-            None => {
-                // No better: a nearly zero step means converged.
-                if delta.iter().take(n).all(|d| d.abs() < 1e-14) {
-                    break;
-                }
-                damping *= growth;
-                growth *= 2.0;
-                if damping > 1e12 {
-                    break;
-                }
-            }
-        }
+impl LeastSquares for FloorCorners<'_> {
+    /// The pose and the focal length (px).
+    type State = (DAffine3, f64);
+
+    fn unknowns(&self) -> usize {
+        if self.with_focal { 7 } else { 6 }
     }
 
+    fn residuals(&self, &(pose, f): &(DAffine3, f64)) -> Option<Vec<f64>> {
+        if f.is_nan() || f <= 0.0 {
+            return None;
+        }
+        let mut r = vec![0.0; 8];
+        for i in 0..4 {
+            let p = pose.transform_point3(self.world[i]);
+            if p.z.is_nan() || p.z <= 1e-9 {
+                return None;
+            }
+            r[2 * i] = f * p.x / p.z - self.centred[i].x;
+            r[2 * i + 1] = f * p.y / p.z - self.centred[i].y;
+        }
+        Some(r)
+    }
+
+    fn normal_equations(&self, &(pose, f): &(DAffine3, f64), r: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let n = self.unknowns();
+        let (a, g) = self.normal(&pose, f, r);
+        (a[..n].iter().flat_map(|row| row[..n].iter().copied()).collect(), g[..n].to_vec())
+    }
+
+    fn moved(&self, &(pose, f): &(DAffine3, f64), delta: &[f64]) -> (DAffine3, f64) {
+        let turn = rotation_from_rodrigues(DVec3::new(delta[0], delta[1], delta[2]));
+        let moved = DVec3::new(delta[3], delta[4], delta[5]) * self.t_unit;
+        let pose = DAffine3::from_mat3_translation(turn * pose.matrix3, pose.translation + moved);
+        (pose, if self.with_focal { f + delta[6] * self.f_unit } else { f })
+    }
+}
+
+/// Levenberg–Marquardt ([`Damping::FLOOR`]) on the pose, and on the focal
+/// length when `with_focal`, from `start` and `focal_px`; then the
+/// first-order spread of the camera centre and the focal length per pixel
+/// of click error. `None` when the start does not see the corners.
+fn refine(
+    start: DAffine3,
+    focal_px: f64,
+    world: &[DVec3; 4],
+    centred: &[DVec2; 4],
+    with_focal: bool,
+) -> Option<FloorFit> {
+    let t_unit = start.translation.length().max(1.0);
+    let f_unit = focal_px;
+    let problem = FloorCorners { world, centred, with_focal, t_unit, f_unit };
+    let n = problem.unknowns();
+    let ((pose, f), r) = minimise(&problem, (start, focal_px), &Damping::FLOOR)?;
+
     // First-order covariance for one pixel of noise per coordinate: (JᵀJ)⁻¹.
-    let (a, _) = normal(&pose, f, &r);
+    let (a, _) = problem.normal_equations(&(pose, f), &r);
     let mut covariance = [[0.0; 7]; 7];
     for j in 0..n {
-        let mut unit = [0.0; 7];
+        let mut unit = vec![0.0; n];
         unit[j] = 1.0;
-        let column = solve(a, unit, n);
+        let column = solve_pivoting(&a, &unit, n);
         for l in 0..n {
-            covariance[l][j] = column.map_or(f64::INFINITY, |c| c[l]);
+            covariance[l][j] = column.as_ref().map_or(f64::INFINITY, |c| c[l]);
         }
     }
     // The centre c = −Rᵀt: with R ← exp([δ]×)R, ∂c/∂δ = −Rᵀ[t]×; ∂c/∂t = −Rᵀ.
@@ -422,37 +385,13 @@ fn refine(
             }
         }
     }
-    let rms_px = (cost(&r) / 4.0).sqrt();
+    let rms_px = (r.iter().map(|x| x * x).sum::<f64>() / 4.0).sqrt();
     let focal_sigma = with_focal.then(|| covariance[6][6].max(0.0).sqrt() * f_unit / f);
-    Some(Fit { pose, focal_px: f, rms_px, center_sigma_cm: center_variance.max(0.0).sqrt(), focal_sigma })
-}
-
-/// `x` with `a x = b` for the leading `n × n` block (Gaussian elimination
-/// with partial pivoting); `None` when `a` is singular to working precision.
-fn solve(mut a: [[f64; 7]; 7], mut b: [f64; 7], n: usize) -> Option<[f64; 7]> {
-    let scale = (0..n).map(|i| a[i][i].abs()).fold(0.0, f64::max);
-    for col in 0..n {
-        let pivot = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
-        let size = a[pivot][col].abs();
-        if size.is_nan() || size <= 1e-14 * scale {
-            return None;
-        }
-        a.swap(col, pivot);
-        b.swap(col, pivot);
-        let (above, below) = a.split_at_mut(col + 1);
-        let pivot_row = &above[col];
-        for (offset, row) in below[..n - col - 1].iter_mut().enumerate() {
-            let factor = row[col] / pivot_row[col];
-            for (value, pivot_value) in row[col..n].iter_mut().zip(&pivot_row[col..n]) {
-                *value -= factor * pivot_value;
-            }
-            b[col + 1 + offset] -= factor * b[col];
-        }
-    }
-    let mut x = [0.0; 7];
-    for row in (0..n).rev() {
-        let known: f64 = (row + 1..n).map(|k| a[row][k] * x[k]).sum();
-        x[row] = (b[row] - known) / a[row][row];
-    }
-    x.iter().take(n).all(|v| v.is_finite()).then_some(x)
+    Some(FloorFit {
+        pose,
+        focal_px: f,
+        rms_px,
+        center_sigma_cm: center_variance.max(0.0).sqrt(),
+        focal_sigma,
+    })
 }

@@ -1,5 +1,7 @@
 //! The camera that films the actor: its model, how it is stored, and how it
-//! is calibrated. May import `signal` and `error`.
+//! is calibrated. May import `signal` and `error` (it needs only `error`);
+//! nothing above (no images, files or bodies: a still's pixels come in as
+//! grey bytes, and go out as corners).
 //!
 //! Conventions, stated here once (they are OpenCV's, so that a calibration
 //! made with OpenCV and one made here are the same numbers):
@@ -13,18 +15,25 @@
 //!   before the focal lengths and principal point, as `cv2.projectPoints`.
 //! - **Rotations** in files are OpenCV's Rodrigues vectors (`rotation`).
 //!
-//! The camera is kept as `camera.json` (`json`: `Camera::from_json`,
-//! `Camera::to_json`), calibrated from stills of a ChArUco board (`board`,
-//! its layout and file; `charuco`, finding it, feature `board`;
-//! `calibrate`, the camera from its corners), and made by hand from four
-//! floor points (`floor_rectangle`) when there is no board.
+//! The camera (`pinhole`, its rotations in `rotation`) is kept as
+//! `camera.json` (`json`: `Camera::from_json`, `Camera::to_json`),
+//! calibrated from stills of a ChArUco board (`board`, its layout and file;
+//! `charuco`, finding it, feature `board`; `calibrate`, the camera from its
+//! corners: its pose, or its lens and pose, Zhang's method from several),
+//! and made by hand from four floor points (`floor_rectangle`) when there
+//! is no board. The calibrations share one toolbox: `homography` (the
+//! plane-to-image homography and the focal length, pose and intrinsics it
+//! gives) and `least_squares` (the small dense solvers and the one
+//! Levenberg–Marquardt minimiser, its damping rules per calibration).
 
 pub mod board;
 pub mod calibrate;
 #[cfg(feature = "board")]
 pub mod charuco;
 pub mod floor_rectangle;
+pub mod homography;
 pub mod json;
+pub mod least_squares;
 pub mod pinhole;
 pub mod rotation;
 

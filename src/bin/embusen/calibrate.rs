@@ -1,18 +1,24 @@
 //! `embusen calibrate`: the camera from stills of a ChArUco board, written
-//! as `camera.json`.
+//! as `camera.json`. One still goes the app's way
+//! (`app::calibration`: the board found, then the camera fitted, a lens
+//! checked against the still's size); several stills are Zhang's method
+//! (`camera::calibrate::calibrate_views`), which the app does not offer; four
+//! clicked floor corners are `camera::floor_rectangle`'s, as the app's.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use embusen::Error;
-use embusen::camera::board::Board;
-use embusen::camera::calibrate::{
-    BoardView, Calibration, LensFit, calibrate_one_view, calibrate_pose, calibrate_views,
+use embusen::app::calibration::{
+    BoardInStill, calibrate_from_board_in_still, calibrate_from_still, find_board_in_still,
 };
-use embusen::camera::charuco::{Detection, detect};
+use embusen::app::tracking::NamedBytes;
+use embusen::camera::board::Board;
+use embusen::camera::calibrate::{BoardView, Calibration, LensFit, calibrate_views};
 use embusen::camera::floor_rectangle::SOURCE;
 use embusen::camera::rotation::rodrigues_from_rotation;
 use embusen::camera::{Camera, FloorRectangle, FocalLength, ImageSize};
+use embusen::io::image_file::png_to_grey;
 use glam::DVec2;
 
 #[derive(clap::Args)]
@@ -90,7 +96,11 @@ fn parse_size_cm(text: &str) -> Result<(f64, f64), String> {
 fn calibrate_by_hand(args: &CalibrateArgs) -> Result<(), Error> {
     let size = match (args.image_size, args.stills.first()) {
         (Some((width_px, height_px)), _) => ImageSize { width_px, height_px },
-        (None, Some(still)) => read_grey_png(still, &file_name(still))?.1,
+        (None, Some(still)) => {
+            let name = shown_path(still);
+            let grey = png_to_grey(&read_still(still, &name)?, &name)?;
+            ImageSize { width_px: grey.width_px, height_px: grey.height_px }
+        }
         (None, None) => {
             return Err(Error::whole(SOURCE, "give --image-size (or a still to read it from)"));
         }
@@ -111,7 +121,7 @@ fn calibrate_by_hand(args: &CalibrateArgs) -> Result<(), Error> {
         fit.reprojection_rms_px, c.x, c.y, c.z, fit.camera.intrinsics.fx_px
     );
     println!("  one pixel of click error moves the camera centre by {:.1} cm", fit.center_sigma_cm_per_px);
-    let out = file_name(&args.output);
+    let out = shown_path(&args.output);
     std::fs::write(&args.output, fit.camera.to_json())
         .map_err(|e| Error::whole(&out, format!("cannot write: {e}")))?;
     println!("wrote {out}");
@@ -150,14 +160,13 @@ pub fn run(args: &CalibrateArgs) -> ExitCode {
 struct Seen {
     name: String,
     board: Board,
-    size: ImageSize,
-    detection: Detection,
+    found: BoardInStill,
 }
 
 fn calibrate(args: &CalibrateArgs) -> Result<(), Error> {
     let lens = match &args.intrinsics {
         Some(path) => {
-            let name = file_name(path);
+            let name = shown_path(path);
             let text = std::fs::read_to_string(path)
                 .map_err(|e| Error::whole(&name, format!("cannot read: {e}")))?;
             Some(Camera::from_json(&text, &name)?)
@@ -166,17 +175,18 @@ fn calibrate(args: &CalibrateArgs) -> Result<(), Error> {
     };
     let mut seen = Vec::new();
     for still in &args.stills {
-        let name = file_name(still);
+        let name = shown_path(still);
         let board = board_for(still, args)?;
-        let (grey, size) = read_grey_png(still, &name)?;
-        let detection = detect(&board, &grey, size, &name)?;
+        let bytes = read_still(still, &name)?;
+        let found = find_board_in_still(NamedBytes { name: &name, bytes: &bytes }, &board)?;
+        let (detection, size) = (&found.detection, found.size);
         println!(
             "{name}: {} of {} corners found ({} markers decoded)",
             detection.corners.len(),
             board.corner_count(),
             detection.markers
         );
-        if let Some(first) = seen.first().map(|s: &Seen| s.size)
+        if let Some(first) = seen.first().map(|s: &Seen| s.found.size)
             && first != size
         {
             return Err(Error::whole(
@@ -187,34 +197,27 @@ fn calibrate(args: &CalibrateArgs) -> Result<(), Error> {
                 ),
             ));
         }
-        seen.push(Seen { name, board, size, detection });
+        seen.push(Seen { name, board, found });
     }
-    let views: Vec<BoardView> = seen
-        .iter()
-        .map(|s| BoardView { file: &s.name, board: &s.board, corners: &s.detection.corners })
-        .collect();
-    let size = seen[0].size;
-    let fits = match &lens {
-        Some(lens) => {
-            if lens.image_size != size {
-                return Err(Error::whole(
-                    views[0].file,
-                    format!(
-                        "the still is {}×{} px, the intrinsics are for {}×{}",
-                        size.width_px, size.height_px, lens.image_size.width_px, lens.image_size.height_px
-                    ),
-                ));
-            }
-            vec![calibrate_pose(&views[0], lens)?]
+    let fits = match &seen[..] {
+        [one] => {
+            let lens_fit = LensFit { k1: args.fit_k1 };
+            vec![calibrate_from_board_in_still(&one.name, &one.board, &one.found, lens.as_ref(), lens_fit)?]
         }
-        None if views.len() == 1 => vec![calibrate_one_view(&views[0], size, LensFit { k1: args.fit_k1 })?],
-        None => calibrate_views(&views, size)?,
+        [first, ..] => {
+            let views: Vec<BoardView> = seen
+                .iter()
+                .map(|s| BoardView { file: &s.name, board: &s.board, corners: &s.found.detection.corners })
+                .collect();
+            calibrate_views(&views, first.found.size)?
+        }
+        [] => return Err(Error::whole("<calibrate>", "no board still to calibrate from")),
     };
-    for (view, fit) in views.iter().zip(&fits) {
-        report(view.file, fit, lens.is_none());
+    for (still, fit) in seen.iter().zip(&fits) {
+        report(&still.name, fit, lens.is_none());
     }
     let camera = &fits[0].camera;
-    let out = file_name(&args.output);
+    let out = shown_path(&args.output);
     std::fs::write(&args.output, camera.to_json())
         .map_err(|e| Error::whole(&out, format!("cannot write: {e}")))?;
     println!("wrote {out}");
@@ -245,17 +248,13 @@ fn report(name: &str, fit: &Calibration, lens_fitted: bool) {
 /// The camera from one still of a board whose layout is in `BOARD.json`
 /// beside it: posed with `lens`, or with the focal length estimated (the
 /// principal point at the image's centre) without one.
+/// As the app's [`calibrate_from_still`], so a lens of another image size is
+/// refused.
 pub fn camera_from_still(still: &Path, lens: Option<&Camera>) -> Result<Camera, Error> {
-    let name = file_name(still);
+    let name = shown_path(still);
     let board = board_beside(still)?;
-    let (grey, size) = read_grey_png(still, &name)?;
-    let detection = detect(&board, &grey, size, &name)?;
-    let view = BoardView { file: &name, board: &board, corners: &detection.corners };
-    let fit = match lens {
-        Some(lens) => calibrate_pose(&view, lens)?,
-        None => calibrate_one_view(&view, size, LensFit { k1: false })?,
-    };
-    Ok(fit.camera)
+    let bytes = read_still(still, &name)?;
+    Ok(calibrate_from_still(NamedBytes { name: &name, bytes: &bytes }, &board, lens)?.calibration.camera)
 }
 
 /// The still's board: from the flags when given, else `BOARD.json` beside
@@ -270,7 +269,7 @@ fn board_for(still: &Path, args: &CalibrateArgs) -> Result<Board, Error> {
 /// The board of `BOARD.json` beside a still.
 fn board_beside(still: &Path) -> Result<Board, Error> {
     let json = board_json_path(still);
-    let name = file_name(&json);
+    let name = shown_path(&json);
     let text = std::fs::read_to_string(&json).map_err(|e| {
         Error::whole(
             &name,
@@ -289,17 +288,12 @@ fn board_json_path(still: &Path) -> PathBuf {
     PathBuf::from(stem)
 }
 
-fn file_name(path: &Path) -> String {
+/// A path as the messages show it: whole, as the user gave it.
+fn shown_path(path: &Path) -> String {
     path.display().to_string()
 }
 
-/// The PNG at `path` as grey bytes (BT.601 luma of colour, as OpenCV's
-/// `cvtColor`; alpha ignored, 16-bit samples cut to 8).
-// Temporary: the image readers of `io` (branch image-pipeline) replace it.
-fn read_grey_png(path: &Path, name: &str) -> Result<(Vec<u8>, ImageSize), Error> {
-    // Grey as every still and frame is (io::image_file), so the app, which
-    // decodes the same still, finds the same corners.
-    let bytes = std::fs::read(path).map_err(|e| Error::whole(name, format!("cannot read: {e}")))?;
-    let grey = embusen::io::image_file::png_to_grey(&bytes, name)?;
-    Ok((grey.pixels, ImageSize { width_px: grey.width_px, height_px: grey.height_px }))
+/// The bytes of the still at `path` (`name` in errors).
+fn read_still(path: &Path, name: &str) -> Result<Vec<u8>, Error> {
+    std::fs::read(path).map_err(|e| Error::whole(name, format!("cannot read: {e}")))
 }

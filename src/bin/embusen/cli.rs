@@ -165,8 +165,9 @@ fn expand(inputs: &[PathBuf]) -> Vec<PathBuf> {
     files
 }
 
-/// The file name of `path`, as the tables show it.
-fn file_name(path: &Path) -> String {
+/// The last part of `path` (its file name, without the folders), as the
+/// tables show it.
+fn base_name(path: &Path) -> String {
     path.file_name().map_or(path.display().to_string(), |n| n.to_string_lossy().into_owned())
 }
 
@@ -183,7 +184,7 @@ fn load_bvh(path: &Path, name: &str, why: &str) -> Result<embusen::io::bvh::Bvh,
 /// `truth_dir` if given, else in `../groundtruth/` from the suit file's
 /// folder, else beside it.
 fn truth_path_for(suit: &Path, truth_dir: Option<&Path>) -> Result<PathBuf, Error> {
-    let name = file_name(suit);
+    let name = base_name(suit);
     let Some(truth_name) = embusen::eval::suit::truth_file_name(&name) else {
         return Err(Error::whole(&suit.display().to_string(), "is not named NAME.suit-TAG.bvh"));
     };
@@ -213,7 +214,7 @@ fn run_eval(
     use embusen::eval::kata_closure_cm;
     let (suits, groundtruths): (Vec<PathBuf>, Vec<PathBuf>) = expand(inputs)
         .into_iter()
-        .partition(|p| embusen::eval::suit::suit_name_parts(&file_name(p)).is_some());
+        .partition(|p| embusen::eval::suit::suit_name_parts(&base_name(p)).is_some());
     // Each suit file with its truth, or why it has none.
     let mut suit_pairs: Vec<(PathBuf, Result<PathBuf, Error>)> =
         suits.into_iter().map(|s| (s.clone(), truth_path_for(&s, truth_dir))).collect();
@@ -257,7 +258,7 @@ fn eval_groundtruth(paths: &[PathBuf]) -> usize {
     let mut files = Vec::new();
     println!("{}", format_header());
     for path in paths {
-        let name = file_name(path);
+        let name = base_name(path);
         let result = load_bvh(path, &name, "ground truth must be a BVH (its root channels are the truth)")
             .and_then(|bvh| evaluate_file(&bvh, &name));
         match result {
@@ -287,13 +288,13 @@ fn eval_suits(pairs: &[(PathBuf, Result<PathBuf, Error>)]) -> usize {
     let mut files = Vec::new();
     println!("{}", format_suit_header());
     for (suit_path, truth_path) in pairs {
-        let name = file_name(suit_path);
+        let name = base_name(suit_path);
         let result = truth_path.clone().and_then(|truth_path| {
             let suit =
                 load_bvh(suit_path, &name, "a suit file must be a BVH (its pose is what is measured)")?;
             let truth = load_bvh(
                 &truth_path,
-                &file_name(&truth_path),
+                &base_name(&truth_path),
                 "a truth must be a BVH (its root channels are the truth)",
             )?;
             evaluate_suit_file(&suit, &truth, &name)
