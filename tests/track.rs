@@ -113,6 +113,18 @@ fn track_cli(
     background: Option<&Path>,
     out: &Path,
 ) -> (bool, String) {
+    track_cli_with(&[], video, bvh, camera, background, out)
+}
+
+/// [`track_cli`] with `extra` arguments after the others.
+fn track_cli_with(
+    extra: &[&str],
+    video: &Path,
+    bvh: &Path,
+    camera: &Path,
+    background: Option<&Path>,
+    out: &Path,
+) -> (bool, String) {
     let mut args: Vec<&std::ffi::OsStr> = vec![
         "track".as_ref(),
         video.as_os_str(),
@@ -126,6 +138,7 @@ fn track_cli(
     if let Some(background) = background {
         args.extend(["--background".as_ref(), background.as_os_str()]);
     }
+    args.extend(extra.iter().map(|a| -> &std::ffi::OsStr { a.as_ref() }));
     let output = embusen(&args);
     (output.status.success(), String::from_utf8_lossy(&output.stderr).into_owned())
 }
@@ -173,22 +186,8 @@ fn track_writes_a_bvh_and_a_row_per_frame_and_refuses_bad_input() {
     refused(track_cli(&video, &bvh, &broken, None, &out), "K");
     // The CLI tracks through the app's job, so the job's checks hold for
     // it too: an offset that is no time.
-    let nan: Vec<&std::ffi::OsStr> = vec![
-        "track".as_ref(),
-        video.as_os_str(),
-        "--bvh".as_ref(),
-        bvh.as_os_str(),
-        "--camera".as_ref(),
-        camera.as_os_str(),
-        "--background".as_ref(),
-        background.as_os_str(),
-        "--offset-s".as_ref(),
-        "NaN".as_ref(),
-        "-o".as_ref(),
-        out.as_os_str(),
-    ];
-    let said = embusen(&nan);
-    refused((said.status.success(), String::from_utf8_lossy(&said.stderr).into_owned()), "the time offset");
+    let nan = track_cli_with(&["--offset-s", "NaN"], &video, &bvh, &camera, Some(&background), &out);
+    refused(nan, "the time offset");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
