@@ -11,8 +11,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use embusen::image::pipeline::{PipelineParams, features};
-use embusen::track::paper::PaperTrackParams;
-use embusen::track::tracker::{FusedParams, TrackMethod};
+use embusen::track::fused::FusedParams;
+use embusen::track::riecicky::RiecickyParams;
+use embusen::track::tracker::TrackMethod;
 
 #[allow(dead_code)]
 #[path = "../tests/common/filmed.rs"]
@@ -35,12 +36,12 @@ fn main() {
     }
     let pipeline_ms = 1e3 * started.elapsed().as_secs_f64() / n as f64;
     let per_frame_ms = |method: TrackMethod| {
-        let setup = filmed::setup(&scene.recording, scene.camera, background, frames, scene.fps, method);
+        let setup = filmed::setup(&scene.recording, scene.camera, background, frames, scene.fps);
         let started = Instant::now();
-        std::hint::black_box(filmed::run(setup, frames));
+        std::hint::black_box(filmed::run(setup, method, frames));
         1e3 * started.elapsed().as_secs_f64() / n as f64
     };
-    let paper_ms = per_frame_ms(TrackMethod::Paper(PaperTrackParams::default()));
+    let paper_ms = per_frame_ms(TrackMethod::Paper(RiecickyParams::default()));
     let fused_ms = per_frame_ms(TrackMethod::Fused(FusedParams::default()));
     let size = scene.camera.image_size;
     println!("walk, {n} frames of {}×{}, native, ms per frame:", size.width_px, size.height_px);

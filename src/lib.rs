@@ -8,11 +8,14 @@
 //! - [`body`]: skeleton, forward kinematics, feet, soles;
 //! - [`camera`]: the camera that films the actor, its file and calibration;
 //! - [`io`]: BVH and table readers and writers, and the [`io::recording::Recording`] they make;
-//! - [`translate`]: the paper's method and embusen's contact method;
+//! - [`translate`]: Hachaj & Ogiela's method and embusen's contact method;
+//! - [`track`]: the camera trackers (Riečický et al.'s and embusen's fused
+//!   one): where the actor is, from one calibrated camera and the suit's pose;
 //! - [`eval`]: both measured against recordings whose true motion is known;
 //! - [`synth`]: the built-in synthetic demo;
-//! - [`app`]: what the app shows (session, plots, theme), still browser-free;
-//! - `web`: the wasm player (wasm builds only).
+//! - [`app`]: what the app shows (session, plots, theme) and the camera-tracking
+//!   job the CLI shares, still browser-free;
+//! - `web`: the browser app's wasm modules (wasm builds only).
 
 pub mod app;
 pub mod body;

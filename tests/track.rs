@@ -13,9 +13,10 @@ use embusen::image::GreyImage;
 use embusen::io::bvh::Bvh;
 use embusen::io::recording::Recording;
 use embusen::synth::demo::demo;
+use embusen::track::fused::FusedParams;
 use embusen::track::offset::estimate_offset_s;
-use embusen::track::paper::PaperTrackParams;
-use embusen::track::tracker::{FusedParams, TrackMethod};
+use embusen::track::riecicky::RiecickyParams;
+use embusen::track::tracker::{TrackDetails, TrackMethod};
 use glam::DVec2;
 use std::path::Path;
 
@@ -25,14 +26,8 @@ fn both_trackers_follow_a_filmed_body_at_another_rate_than_its_bvh() {
     let size = ImageSize { width_px: 400, height_px: 300 };
     let (recording, camera, background, frames, truth) = film(25.0, 4.0, size, 0.0);
     // The paper's tracker starts at the world's origin: put the truth there.
-    let paper = track(
-        &recording,
-        camera,
-        &background,
-        &frames,
-        25.0,
-        TrackMethod::Paper(PaperTrackParams::default()),
-    );
+    let paper =
+        track(&recording, camera, &background, &frames, 25.0, TrackMethod::Paper(RiecickyParams::default()));
     let fused =
         track(&recording, camera, &background, &frames, 25.0, TrackMethod::Fused(FusedParams::default()));
     assert_eq!(fused.frames.len(), frames.len());
@@ -45,7 +40,9 @@ fn both_trackers_follow_a_filmed_body_at_another_rate_than_its_bvh() {
     assert!(fused.frames.iter().all(|f| f.height_cm.is_finite()));
     assert!(fused.frames.iter().filter(|f| f.confidence > 0.0).count() * 10 >= frames.len() * 9);
     // The paper's search: 25 candidates a frame, each with its energy.
-    assert!(paper.frames.iter().all(|f| f.candidates.len() == 25));
+    let TrackDetails::Paper { candidates, .. } = &paper.details else { panic!("not the paper's track") };
+    assert_eq!(candidates.len(), paper.frames.len());
+    assert!(candidates.iter().all(|c| c.len() == 25));
 }
 
 #[test]
@@ -83,15 +80,15 @@ fn the_time_offset_between_video_and_bvh_is_found() {
         "truth",
     );
     let fused = TrackMethod::Fused(FusedParams::default());
-    let at_zero = setup(&recording, camera, &background, &frames, 25.0, fused);
-    let first = run(at_zero.clone(), &frames);
+    let at_zero = setup(&recording, camera, &background, &frames, 25.0);
+    let first = run(at_zero.clone(), fused, &frames);
     let samples: Vec<(usize, GreyImage)> = (0..frames.len()).map(|i| (i, frames[i].clone())).collect();
     let estimate = estimate_offset_s(&at_zero, &first, &samples, 1.0).unwrap();
     eprintln!("offset found {:.3} s (true 0.3), {} offsets tried", estimate.offset_s, estimate.tried.len());
     assert!((estimate.offset_s - 0.3).abs() <= 0.1, "{estimate:?}");
     let mut in_step = at_zero;
     in_step.timing.offset_s = estimate.offset_s;
-    let second = run(in_step, &frames);
+    let second = run(in_step, fused, &frames);
     let (before, after) =
         (mean_error_cm(&first, &truth, DVec2::ZERO), mean_error_cm(&second, &truth, DVec2::ZERO));
     eprintln!("fused at offset 0: {before:.2} cm; at the estimate: {after:.2} cm");
@@ -116,6 +113,18 @@ fn track_cli(
     background: Option<&Path>,
     out: &Path,
 ) -> (bool, String) {
+    track_cli_with(&[], video, bvh, camera, background, out)
+}
+
+/// [`track_cli`] with `extra` arguments after the others.
+fn track_cli_with(
+    extra: &[&str],
+    video: &Path,
+    bvh: &Path,
+    camera: &Path,
+    background: Option<&Path>,
+    out: &Path,
+) -> (bool, String) {
     let mut args: Vec<&std::ffi::OsStr> = vec![
         "track".as_ref(),
         video.as_os_str(),
@@ -129,6 +138,7 @@ fn track_cli(
     if let Some(background) = background {
         args.extend(["--background".as_ref(), background.as_os_str()]);
     }
+    args.extend(extra.iter().map(|a| -> &std::ffi::OsStr { a.as_ref() }));
     let output = embusen(&args);
     (output.status.success(), String::from_utf8_lossy(&output.stderr).into_owned())
 }
@@ -174,6 +184,10 @@ fn track_writes_a_bvh_and_a_row_per_frame_and_refuses_bad_input() {
     let broken = dir.join("broken.camera.json");
     std::fs::write(&broken, text.replacen("\"K\"", "\"not_K\"", 1)).unwrap();
     refused(track_cli(&video, &bvh, &broken, None, &out), "K");
+    // The CLI tracks through the app's job, so the job's checks hold for
+    // it too: an offset that is no time.
+    let nan = track_cli_with(&["--offset-s", "NaN"], &video, &bvh, &camera, Some(&background), &out);
+    refused(nan, "the time offset");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -304,7 +318,7 @@ fn shared_scene_errors() -> Option<&'static Vec<(String, f64, f64)>> {
                     let floor: Vec<DVec2> = track.frames.iter().map(|f| f.floor_cm).collect();
                     track_errors(&floor, &truth).mean_cm
                 };
-                let paper = mean(TrackMethod::Paper(PaperTrackParams::default()));
+                let paper = mean(TrackMethod::Paper(RiecickyParams::default()));
                 let fused = mean(TrackMethod::Fused(FusedParams::default()));
                 eprintln!("{name}: paper {paper:.1} cm, fused {fused:.1} cm");
                 (name.to_string(), paper, fused)

@@ -12,8 +12,9 @@ mod common;
 
 use common::filmed::{film, mean_error_cm, run, setup};
 use embusen::camera::ImageSize;
-use embusen::track::paper::PaperTrackParams;
-use embusen::track::tracker::{FusedParams, TrackMethod};
+use embusen::track::fused::FusedParams;
+use embusen::track::riecicky::RiecickyParams;
+use embusen::track::tracker::TrackMethod;
 
 #[cfg(target_arch = "wasm32")]
 wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
@@ -48,12 +49,12 @@ fn both_trackers_follow_a_640_by_480_take_and_say_how_fast() {
     let size = ImageSize { width_px: 640, height_px: 480 };
     let (recording, camera, background, frames, truth) = film(30.0, 3.0, size, 0.0);
     let methods = [
-        ("paper", TrackMethod::Paper(PaperTrackParams::default()), truth[0]),
+        ("paper", TrackMethod::Paper(RiecickyParams::default()), truth[0]),
         ("fused", TrackMethod::Fused(FusedParams::default()), glam::DVec2::ZERO),
     ];
     for (name, method, start) in methods {
         let started = now_ms();
-        let track = run(setup(&recording, camera, &background, &frames, 30.0, method), &frames);
+        let track = run(setup(&recording, camera, &background, &frames, 30.0), method, &frames);
         let ms = (now_ms() - started) / frames.len() as f64;
         let error_cm = mean_error_cm(&track, &truth, start);
         say(&format!(

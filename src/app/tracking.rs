@@ -4,7 +4,9 @@
 //! time as the decoder's luma planes, and the end is the same corrected
 //! recording and hips CSV `embusen track` writes for the same files. Kept
 //! browser-free so native tests drive it with ffmpeg's frames; `web` runs
-//! it in a Web Worker.
+//! it in a Web Worker, and `embusen track` and `eval-track` run it on
+//! ffmpeg's frames: the checks, the warnings, the background, the offset
+//! estimate and the export are this one module's for all three.
 
 use glam::{DVec2, DVec3};
 
@@ -13,14 +15,17 @@ use crate::camera::Camera;
 use crate::error::Error;
 use crate::eval::track::{TrackErrors, frame_errors_cm, track_errors};
 use crate::image::GreyImage;
+use crate::image::background::median_background;
 use crate::io::hips_csv::parse_hips_csv;
 use crate::io::image_file::png_to_grey;
 use crate::io::recording::Recording;
+use crate::track::fused::PathScorer;
 use crate::track::offset::{OFFSET_REACH_S, OffsetEstimate, estimate_offset_s, is_offset_sample};
+use crate::track::path::PathRequest;
 use crate::track::silhouette::SilhouetteRenderer;
 use crate::track::suit_motion::VideoTiming;
 use crate::track::take::{Take, TakeExport};
-use crate::track::tracker::{PathRequest, PathScorer, Track, TrackMethod, Tracker};
+use crate::track::tracker::{Track, TrackDetails, TrackMethod, Tracker};
 
 /// The video as the page's decoder describes it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,6 +65,42 @@ pub struct PaperCandidates {
     pub chosen: Option<usize>,
 }
 
+/// The still of the empty room the frames are compared with, and what the
+/// user should be told about it.
+#[derive(Clone, Debug)]
+pub struct Background {
+    pub image: GreyImage,
+    pub warning: Option<String>,
+}
+
+impl Background {
+    /// A still taken of the empty room.
+    pub fn still(image: GreyImage) -> Background {
+        Background { image, warning: None }
+    }
+
+    /// Without a still: the per-pixel median of `frames` spread over the
+    /// video `video_name` stands for the empty room
+    /// (`image::background::MEDIAN_FRAMES` of them, as `embusen track`
+    /// samples them).
+    pub fn median_of(frames: &[GreyImage], video_name: &str) -> Result<Background, Error> {
+        let warning = format!(
+            "no background still: the median of {} frames of the video stands for the empty room",
+            frames.len()
+        );
+        Ok(Background { image: median_background(frames, video_name)?, warning: Some(warning) })
+    }
+}
+
+/// A take's inputs once read: the suit's recording, the camera that filmed
+/// it, the empty room.
+#[derive(Clone, Debug)]
+pub struct TakeInputs {
+    pub recording: Recording,
+    pub camera: Camera,
+    pub background: Background,
+}
+
 /// One take being tracked.
 pub struct TrackingJob {
     take: Take,
@@ -76,8 +117,8 @@ pub struct TrackingJob {
 
 impl TrackingJob {
     /// Opens the take: the recording and the camera parsed, the background
-    /// still decoded, their sizes checked against the video's (each error
-    /// names its file and, in text, the line and column).
+    /// still decoded (each error names its file and, in text, the line and
+    /// column), then [`TrackingJob::new`]'s checks.
     pub fn open(
         recording: NamedBytes,
         camera: NamedBytes,
@@ -87,24 +128,38 @@ impl TrackingJob {
         method: TrackMethod,
         offset_s: f64,
     ) -> Result<TrackingJob, Error> {
-        if video.frame_count == 0 || !(video.fps.is_finite() && video.fps > 0.0) {
-            return Err(Error::whole(
-                video_name,
-                format!("{} frames at {} fps: not a video to track", video.frame_count, video.fps),
-            ));
-        }
-        if !offset_s.is_finite() {
-            return Err(Error::whole("the time offset", format!("{offset_s} s is not a time")));
-        }
         let recording = Recording::parse(recording.bytes, recording.name, None)?;
         let camera_text = std::str::from_utf8(camera.bytes)
             .map_err(|e| Error::whole(camera.name, format!("not UTF-8 text: {e}")))?;
         let camera = Camera::from_json(camera_text, camera.name)?;
+        let background = Background::still(png_to_grey(background.bytes, background.name)?);
+        TrackingJob::new(TakeInputs { recording, camera, background }, video_name, video, method, offset_s)
+    }
+
+    /// Opens the take from its `inputs` already read, filmed in `video`
+    /// (named `video_name` in messages), to be tracked with `method` at
+    /// `offset_s`. An error when the video has no frames or no rate, the
+    /// offset is not a time, or the camera's image size is not the video's
+    /// or the background's.
+    pub fn new(
+        inputs: TakeInputs,
+        video_name: &str,
+        video: VideoDescription,
+        method: TrackMethod,
+        offset_s: f64,
+    ) -> Result<TrackingJob, Error> {
+        check_video(video_name, &video, offset_s)?;
+        let TakeInputs { recording, camera, background } = inputs;
         camera.check_image_size(video.width_px, video.height_px, video_name)?;
-        let background = png_to_grey(background.bytes, background.name)?;
         let timing = VideoTiming { fps: video.fps, frame_count: video.frame_count, offset_s };
-        let take = Take::new(recording, camera, background, timing, method, Vec::new())?;
-        let tracker = Tracker::new(take.setup.clone())?;
+        let warnings = background.warning.into_iter().collect();
+        let take = Take::new(recording, camera, background.image, timing, method, warnings)?;
+        TrackingJob::of_take(take, video_name)
+    }
+
+    /// The job of tracking `take`, whose video is named `video_name`.
+    fn of_take(take: Take, video_name: &str) -> Result<TrackingJob, Error> {
+        let tracker = Tracker::new(take.setup.clone(), take.method)?;
         Ok(TrackingJob {
             take,
             video_name: video_name.to_string(),
@@ -113,6 +168,19 @@ impl TrackingJob {
             offset_samples: None,
             track: None,
         })
+    }
+
+    /// A new job of the same take at the offset `estimate` found, when it
+    /// is more than half a frame from the one tracked (`None`: the track
+    /// stands), as `embusen track --estimate-offset` does.
+    pub fn retrack_at(&self, estimate: &OffsetEstimate) -> Result<Option<TrackingJob>, Error> {
+        let timing = self.take.setup.timing;
+        if (estimate.offset_s - timing.offset_s).abs() * timing.fps <= 0.5 {
+            return Ok(None);
+        }
+        let mut take = self.take.clone();
+        take.setup.timing.offset_s = estimate.offset_s;
+        TrackingJob::of_take(take, &self.video_name).map(Some)
     }
 
     /// What the user should know before the frames come (frames without a
@@ -211,11 +279,17 @@ impl TrackingJob {
         full_range: bool,
     ) -> Result<Vec<f64>, Error> {
         let grey = self.grey_of(luma, stride, full_range, request.frame)?;
-        let scorer = match &mut self.path_scorer {
-            Some(scorer) => scorer,
-            None => self.path_scorer.insert(PathScorer::new(self.take.setup.clone())?),
+        self.path_scorer()?.energies(request, &grey)
+    }
+
+    /// The scorer of the fused energy apart from the tracker (made when
+    /// first asked); an error for the paper's tracker.
+    fn path_scorer(&mut self) -> Result<&mut PathScorer, Error> {
+        let TrackMethod::Fused(params) = self.take.method else {
+            return Err(Error::whole("<path scorer>", "only the fused tracker searches a path"));
         };
-        scorer.energies(request, &grey)
+        let setup = &self.take.setup;
+        Ok(self.path_scorer.get_or_insert_with(|| PathScorer::new(setup.clone(), params)))
     }
 
     /// Hands back the energies of a request this job made.
@@ -280,14 +354,42 @@ impl TrackingJob {
     /// `finish`, or in a frame without a pose.
     pub fn paper_candidates(&self) -> Vec<PaperCandidates> {
         let Some(track) = &self.track else { return Vec::new() };
+        let none = Vec::new();
+        let candidates = match &track.details {
+            TrackDetails::Paper { candidates, .. } => candidates,
+            TrackDetails::Fused { .. } => &none,
+        };
         track
             .frames
             .iter()
-            .map(|f| PaperCandidates {
-                chosen: f.measured_cm.and_then(|m| f.candidates.iter().position(|(p, _)| *p == m)),
-                tried: f.candidates.clone(),
+            .enumerate()
+            .map(|(i, f)| {
+                let tried = candidates.get(i).cloned().unwrap_or_default();
+                PaperCandidates {
+                    chosen: f.measured_cm.and_then(|m| tried.iter().position(|(p, _)| *p == m)),
+                    tried,
+                }
             })
             .collect()
+    }
+
+    /// The finished track; none before `finish`.
+    pub fn track(&self) -> Option<&Track> {
+        self.track.as_ref()
+    }
+
+    /// For evaluations (`embusen eval-track --camera-oracle`): where the
+    /// fused energy alone puts the body in video frame `i`, searched
+    /// densely within `reach_cm` of the true `around_cm`
+    /// ([`PathScorer::camera_oracle`]); the job tracks nothing itself.
+    pub fn camera_oracle(
+        &mut self,
+        grey: &GreyImage,
+        i: usize,
+        around_cm: DVec2,
+        reach_cm: f64,
+    ) -> Result<Option<DVec2>, Error> {
+        self.path_scorer()?.camera_oracle(grey, i, around_cm, reach_cm)
     }
 
     /// The body model the take is tracked with (as the 3D view draws it).
@@ -313,4 +415,19 @@ impl TrackingJob {
             })
             .collect()
     }
+}
+
+/// An error when `video` (named `video_name`) has no frames or no rate, or
+/// `offset_s` is not a time.
+fn check_video(video_name: &str, video: &VideoDescription, offset_s: f64) -> Result<(), Error> {
+    if video.frame_count == 0 || !(video.fps.is_finite() && video.fps > 0.0) {
+        return Err(Error::whole(
+            video_name,
+            format!("{} frames at {} fps: not a video to track", video.frame_count, video.fps),
+        ));
+    }
+    if !offset_s.is_finite() {
+        return Err(Error::whole("the time offset", format!("{offset_s} s is not a time")));
+    }
+    Ok(())
 }

@@ -128,13 +128,9 @@ pub fn canny(image: &GreyImage, params: &CannyParams) -> Mask {
     let Some(nonzero) = PixelBox::around(&image.pixels, w, |&p| p != 0) else { return edges };
     let half = half_kernel(params.sigma_px);
     let b = nonzero.grown(half.len() - 1 + 2, w, h);
-    let cropped = GreyImage {
-        width_px: b.width() as u32,
-        height_px: b.height() as u32,
-        pixels: b.crop(&image.pixels, w),
-    };
+    let cropped = GreyImage { width_px: b.width(), height_px: b.height(), pixels: b.crop(&image.pixels, w) };
     let on = canny_whole(&cropped, &half, params);
-    for (row, inner) in b.rows(w).zip(on.chunks_exact(b.width())) {
+    for (row, inner) in b.rows(w).zip(on.chunks_exact(b.width() as usize)) {
         edges.on[row].copy_from_slice(inner);
     }
     edges

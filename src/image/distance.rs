@@ -109,9 +109,9 @@ pub fn distance_to_truncated(mask: &Mask, max_px: f32) -> DistanceImage {
     };
     let Some(on_box) = PixelBox::around(&mask.on, w, |&on| on) else { return out };
     let b = on_box.grown(libm::ceilf(max_px).min((w + h) as f32) as usize, w, h);
-    let inner = Mask { width_px: b.width() as u32, height_px: b.height() as u32, on: b.crop(&mask.on, w) };
+    let inner = Mask { width_px: b.width(), height_px: b.height(), on: b.crop(&mask.on, w) };
     let inner = distance_to(&inner);
-    for (row, inner) in b.rows(w).zip(inner.distance_px.chunks_exact(b.width())) {
+    for (row, inner) in b.rows(w).zip(inner.distance_px.chunks_exact(b.width() as usize)) {
         for (o, &d) in out.distance_px[row].iter_mut().zip(inner) {
             *o = d.min(max_px);
         }

@@ -183,26 +183,43 @@ impl DistanceImage {
     }
 }
 
-/// A box of pixels, its corners inclusive.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct PixelBox {
-    pub x0: usize,
-    pub y0: usize,
-    pub x1: usize,
-    pub y1: usize,
+/// A rectangle of pixels: columns `left..right`, rows `top..bottom`, half
+/// open (`right` and `bottom` are the first column and row past it; empty
+/// when `left == right` or `top == bottom`). The one box of pixels in the
+/// crate: the pipeline's work areas here, the silhouettes' bounds in
+/// `track::silhouette`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct PixelBox {
+    pub left: u32,
+    pub top: u32,
+    pub right: u32,
+    pub bottom: u32,
 }
 
 impl PixelBox {
+    pub fn width(&self) -> u32 {
+        self.right.saturating_sub(self.left)
+    }
+
+    pub fn height(&self) -> u32 {
+        self.bottom.saturating_sub(self.top)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.width() == 0 || self.height() == 0
+    }
+
     /// The smallest box holding every value of the row-major `values`
     /// (`width` a row) for which `is_on` holds; `None` when there is none.
     pub fn around<T>(values: &[T], width: usize, is_on: impl Fn(&T) -> bool) -> Option<PixelBox> {
         let mut found: Option<PixelBox> = None;
-        for (y, row) in values.chunks_exact(width).enumerate() {
+        for (y, row) in (0u32..).zip(values.chunks_exact(width)) {
             let Some(first) = row.iter().position(&is_on) else { continue };
             let last = row.iter().rposition(&is_on).unwrap_or(first);
+            let (left, right) = (first as u32, last as u32 + 1);
             found = Some(match found {
-                None => PixelBox { x0: first, y0: y, x1: last, y1: y },
-                Some(b) => PixelBox { x0: b.x0.min(first), x1: b.x1.max(last), y1: y, ..b },
+                None => PixelBox { left, top: y, right, bottom: y + 1 },
+                Some(b) => PixelBox { left: b.left.min(left), right: b.right.max(right), bottom: y + 1, ..b },
             });
         }
         found
@@ -210,31 +227,25 @@ impl PixelBox {
 
     /// The box grown by `by` on every side, within a `width × height` image.
     pub fn grown(self, by: usize, width: usize, height: usize) -> PixelBox {
+        let by = u32::try_from(by).unwrap_or(u32::MAX);
         PixelBox {
-            x0: self.x0.saturating_sub(by),
-            y0: self.y0.saturating_sub(by),
-            x1: (self.x1 + by).min(width - 1),
-            y1: (self.y1 + by).min(height - 1),
+            left: self.left.saturating_sub(by),
+            top: self.top.saturating_sub(by),
+            right: self.right.saturating_add(by).min(width as u32),
+            bottom: self.bottom.saturating_add(by).min(height as u32),
         }
-    }
-
-    pub fn width(&self) -> usize {
-        self.x1 - self.x0 + 1
-    }
-
-    pub fn height(&self) -> usize {
-        self.y1 - self.y0 + 1
     }
 
     /// The rows of the box, each as the range of its values in a row-major
     /// image `width` wide.
     pub fn rows(self, width: usize) -> impl Iterator<Item = std::ops::Range<usize>> {
-        (self.y0..=self.y1).map(move |y| y * width + self.x0..y * width + self.x1 + 1)
+        let (left, right) = (self.left as usize, self.right as usize);
+        (self.top as usize..self.bottom as usize).map(move |y| y * width + left..y * width + right)
     }
 
     /// The values of the box, row-major.
     pub fn crop<T: Copy>(self, values: &[T], width: usize) -> Vec<T> {
-        let mut out = Vec::with_capacity(self.width() * self.height());
+        let mut out = Vec::with_capacity(self.width() as usize * self.height() as usize);
         for row in self.rows(width) {
             out.extend_from_slice(&values[row]);
         }

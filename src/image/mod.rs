@@ -16,4 +16,4 @@ pub mod grey;
 pub mod morphology;
 pub mod pipeline;
 
-pub use grey::{DistanceImage, GreyImage, Mask, fnv1a};
+pub use grey::{DistanceImage, GreyImage, Mask, PixelBox, fnv1a};

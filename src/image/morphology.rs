@@ -57,7 +57,7 @@ pub fn open_close(mask: &Mask, open_px: u32, close_px: u32) -> Mask {
     let mut out = Mask::empty(mask.width_px, mask.height_px);
     let Some(on) = PixelBox::around(&bytes, w, |&b| b != 0) else { return out };
     let b = on.grown((open_px + 2 * close_px) as usize, w, h);
-    let (bw, bh) = (b.width(), b.height());
+    let (bw, bh) = (b.width() as usize, b.height() as usize);
     let mut inner = b.crop(&bytes, w);
     for (radius, op) in [(open_px, Op::Any), (close_px, Op::Any), (close_px, Op::All)] {
         if radius > 0 {

@@ -19,8 +19,12 @@
 //!   it (`FrameTerms::fit_in_band`): what keeps the silhouette as large as
 //!   the actor, and so at the actor's depth.
 
+use glam::{DVec2, DVec3};
+
+use crate::body::shape::PosedBody;
+use crate::camera::Camera;
 use crate::image::{DistanceImage, Mask};
-use crate::track::silhouette::Silhouette;
+use crate::track::silhouette::{Silhouette, SilhouetteRenderer};
 
 /// The per-frame image terms, ready to be summed over many silhouettes.
 /// They borrow the frame's edge distances, made once per frame and read at
@@ -49,7 +53,7 @@ pub struct FrameTerms<'a> {
 
 /// A silhouette's fit, its parts kept apart for the confidence.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Fit {
+pub struct SilhouetteFit {
     /// Contour pixels.
     pub contour_px: usize,
     /// The paper's energy: the mean untruncated edge distance (px).
@@ -123,7 +127,7 @@ impl<'a> FrameTerms<'a> {
     }
 
     /// How `silhouette` fits; `None` when it covers no pixel of the image.
-    pub fn fit(&self, silhouette: &Silhouette) -> Option<Fit> {
+    pub fn fit(&self, silhouette: &Silhouette) -> Option<SilhouetteFit> {
         if silhouette.image_size.width_px != self.width_px
             || silhouette.image_size.height_px != self.height_px
         {
@@ -153,7 +157,7 @@ impl<'a> FrameTerms<'a> {
         }
         let (on_foreground, area) = self.foreground_under(silhouette);
         let n = contour.len() as f64;
-        Some(Fit {
+        Some(SilhouetteFit {
             contour_px: contour.len(),
             chamfer_px: chamfer / n,
             truncated_chamfer_px: truncated / n,
@@ -170,7 +174,12 @@ impl<'a> FrameTerms<'a> {
     /// band's foreground share times `band_px`. A silhouette the actor's
     /// size leaves its band on the empty room (0); one `e` px too small all
     /// round leaves about `e / band_px` of it on the actor (`e` px).
-    pub fn fit_in_band(&self, silhouette: &Silhouette, widened: &Silhouette, band_px: f64) -> Option<Fit> {
+    pub fn fit_in_band(
+        &self,
+        silhouette: &Silhouette,
+        widened: &Silhouette,
+        band_px: f64,
+    ) -> Option<SilhouetteFit> {
         let fit = self.fit(silhouette)?;
         if widened.image_size != silhouette.image_size {
             return Some(fit);
@@ -180,7 +189,7 @@ impl<'a> FrameTerms<'a> {
         let band_area = outer_area.saturating_sub(inner_area);
         let band_on = outer_on.saturating_sub(inner_on);
         let uncovered_px = if band_area == 0 { 0.0 } else { band_on as f64 / band_area as f64 * band_px };
-        Some(Fit { uncovered_px, ..fit })
+        Some(SilhouetteFit { uncovered_px, ..fit })
     }
 
     /// The foreground pixels under `silhouette`, and its area (px).
@@ -197,7 +206,63 @@ impl<'a> FrameTerms<'a> {
     }
 }
 
-impl Fit {
+/// One frame's body as the fused energy scores it: posed, widened by the
+/// band (`BodyShape::widened`), and the band's width in pixels at the
+/// body's distance (0: no band).
+pub struct BandedBody {
+    pub body: PosedBody,
+    pub widened: PosedBody,
+    pub band_px: f64,
+}
+
+/// Scores a body's silhouette at floor positions in one frame's terms: a
+/// renderer and its two silhouettes, kept from one position to the next.
+pub struct Scorer {
+    renderer: SilhouetteRenderer,
+    silhouette: Silhouette,
+    /// The widened body's silhouette, for the band.
+    band_silhouette: Silhouette,
+}
+
+impl Scorer {
+    pub fn new(camera: &Camera) -> Scorer {
+        Scorer {
+            renderer: SilhouetteRenderer::new(camera),
+            silhouette: Silhouette::empty(camera.image_size),
+            band_silhouette: Silhouette::empty(camera.image_size),
+        }
+    }
+
+    /// The fit of `body` at `floor_cm` with its band (none when the band is
+    /// 0 px wide: then the widened body is not drawn at all).
+    pub fn banded_fit(
+        &mut self,
+        terms: &FrameTerms,
+        body: &BandedBody,
+        floor_cm: DVec2,
+    ) -> Option<SilhouetteFit> {
+        let shift = DVec3::new(floor_cm.x, 0.0, floor_cm.y);
+        self.renderer.render_into(&body.body, shift, &mut self.silhouette);
+        if body.band_px <= 0.0 {
+            return terms.fit(&self.silhouette);
+        }
+        self.renderer.render_into(&body.widened, shift, &mut self.band_silhouette);
+        terms.fit_in_band(&self.silhouette, &self.band_silhouette, body.band_px)
+    }
+
+    /// The fit of `body` alone at `floor_cm` (no band).
+    pub fn plain_fit(
+        &mut self,
+        terms: &FrameTerms,
+        body: &PosedBody,
+        floor_cm: DVec2,
+    ) -> Option<SilhouetteFit> {
+        self.renderer.render_into(body, DVec3::new(floor_cm.x, 0.0, floor_cm.y), &mut self.silhouette);
+        terms.fit(&self.silhouette)
+    }
+}
+
+impl SilhouetteFit {
     /// The fused energy (px): the truncated contour distance, plus the area
     /// off the foreground weighed by `mask_weight`, plus the uncovered band
     /// weighed by `uncovered_weight`.

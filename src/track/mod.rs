@@ -1,14 +1,22 @@
-//! The camera tracker: where the actor is on the floor, from one calibrated
-//! camera filming the suit's pose, the contact method its inertial
-//! prediction; [`silhouette`] renders the body model of `body::shape` as
-//! the camera sees it, on the CPU. May import `signal`, `error`, `image`,
-//! `body`, `camera`, `io` and `translate`.
+//! The camera trackers: where the actor is on the floor, from one calibrated
+//! camera filming the suit's pose. [`tracker`] runs one of two over a
+//! video, each frame's features computed once ([`setup`]): Riečický et
+//! al.'s as published ([`riecicky`]) or embusen's ([`fused`]: the contact
+//! method's floor path predicts, [`smoother`] weighs it against the camera,
+//! [`path`] searches the whole path along the lines of sight). Both score a
+//! body's silhouette ([`silhouette`], rendered on the CPU from
+//! `body::shape`) against the frame ([`energy`]); [`take`] makes a take
+//! and writes its track, [`offset`] finds the video's time offset. May
+//! import `signal`, `error`, `image`, `body`, `camera`, `io` and
+//! `translate`.
 
 pub mod energy;
+pub mod fused;
 pub mod offset;
-pub mod paper;
 pub mod path;
+pub mod riecicky;
 pub mod search;
+pub mod setup;
 pub mod silhouette;
 pub mod smoother;
 pub mod suit_motion;

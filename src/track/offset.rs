@@ -9,11 +9,13 @@
 use glam::{DVec2, DVec3};
 
 use crate::image::GreyImage;
-use crate::image::pipeline::{Features, features};
+use crate::image::pipeline::Features;
 use crate::track::energy::FrameTerms;
+use crate::track::fused::{FusedParams, fused_terms};
 use crate::track::search::coarse_to_fine;
+use crate::track::setup::TrackSetup;
 use crate::track::silhouette::SilhouetteRenderer;
-use crate::track::tracker::{FusedParams, Track, TrackSetup, fused_terms};
+use crate::track::tracker::Track;
 
 /// How many frames of a take the offset is estimated from, spread evenly.
 pub const OFFSET_SAMPLES: usize = 60;
@@ -108,7 +110,7 @@ pub fn estimate_offset_s(
         .iter()
         .filter_map(|(i, frame)| {
             let tracked = track.frames.get(*i)?;
-            let f = features(frame, &setup.background, &setup.pipeline, "sample").ok()?;
+            let f = setup.features(frame, setup.pipeline.truncate_px, "sample").ok()?;
             Some((*i, f, tracked.floor_cm))
         })
         .collect();

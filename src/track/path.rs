@@ -12,8 +12,15 @@
 //! `temperature_px` (the energy taken as the negative log-likelihood's
 //! scale); a move between frames, `|Δ − s|² / 2σ²` with `s` the expected
 //! (inertial) step and `σ` its uncertainty.
+//!
+//! [`PathSearch`] keeps what the search needs of each frame while the
+//! video is read, the energies perhaps scored elsewhere ([`PathRequest`]),
+//! and runs the forward filter again through the chosen path.
 
-use glam::DVec2;
+use glam::{DMat2, DVec2};
+
+use crate::error::Error;
+use crate::track::smoother::FloorFilter;
 
 /// One frame's candidates and how the body was expected to move into it.
 #[derive(Clone, Debug, PartialEq)]
@@ -98,6 +105,171 @@ fn unary_costs(energies_px: &[f64], temperature_px: f64) -> Vec<f64> {
         .iter()
         .map(|e| if e.is_finite() { *e - least } else { most - least } / temperature_px.max(1e-12))
         .collect()
+}
+
+/// What the path search asks of one frame when its energies are deferred
+/// ([`PathSearch::defer`]): the fused energy at each candidate, in the
+/// frame's terms as the tracker made them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PathRequest {
+    /// The video frame.
+    pub frame: usize,
+    /// Where the frame's terms were made: the prediction (x, z, cm).
+    pub prediction_cm: DVec2,
+    /// The cap of the distance transforms the frame's features had.
+    pub truncate_px: Option<f32>,
+    /// Where to score (x, z, cm).
+    pub candidates_cm: Vec<DVec2>,
+}
+
+/// What the path search keeps of one frame.
+#[derive(Clone, Debug)]
+pub struct PathRecord {
+    pub frame: PathFrame,
+    /// Its energies are deferred and have not come yet.
+    pub pending: bool,
+    /// The suit's own step into this frame, as the forward filter took it.
+    pub inertial_step_cm: DVec2,
+    /// How uncertain the frame's fit was across the line of sight (cm²).
+    pub across_variance_cm2: f64,
+    /// The line of sight's direction on the floor.
+    pub along: DVec2,
+}
+
+/// The path search's frames over a take, as they are read.
+#[derive(Clone, Debug, Default)]
+pub struct PathSearch {
+    /// One per frame read while the search is on; `None` without a pose.
+    records: Vec<Option<PathRecord>>,
+    /// Whether the energies are left to the caller, and the last frame's request.
+    deferred: bool,
+    request: Option<PathRequest>,
+}
+
+impl PathSearch {
+    /// From now on the energies of a frame whose fit is believable are not
+    /// scored by the tracker but asked for ([`PathSearch::take_request`]).
+    pub fn defer(&mut self) {
+        self.deferred = true;
+    }
+
+    pub fn is_deferred(&self) -> bool {
+        self.deferred
+    }
+
+    /// What the frame just read leaves to score.
+    pub fn take_request(&mut self) -> Option<PathRequest> {
+        self.request.take()
+    }
+
+    /// Forgets the last frame's request: a new frame is read.
+    pub fn next_frame(&mut self) {
+        self.request = None;
+    }
+
+    /// Keeps a frame's record (`None`: no pose there), and its request
+    /// when its energies are deferred.
+    pub fn push(&mut self, record: Option<PathRecord>, request: Option<PathRequest>) {
+        self.records.push(record);
+        self.request = request;
+    }
+
+    /// The energies of a [`PathRequest`]'s candidates. An error when the
+    /// frame asked for none or the count differs.
+    pub fn set_energies(&mut self, frame: usize, energies_px: Vec<f64>) -> Result<(), Error> {
+        let record = self.records.get_mut(frame).and_then(|r| r.as_mut());
+        match record {
+            Some(r) if r.pending && r.frame.candidates_cm.len() == energies_px.len() => {
+                r.frame.energies_px = energies_px;
+                r.pending = false;
+                Ok(())
+            }
+            _ => Err(Error::whole(
+                &format!("video frame {frame}"),
+                format!("{} path energies that no request of this frame asked for", energies_px.len()),
+            )),
+        }
+    }
+
+    /// How many frames still wait for their energies.
+    pub fn pending(&self) -> usize {
+        self.records.iter().flatten().filter(|r| r.pending).count()
+    }
+
+    /// The frames still waiting get energies that say nothing (a fit not
+    /// believed); how many they were.
+    pub fn give_up_pending(&mut self) -> usize {
+        let mut count = 0;
+        for r in self.records.iter_mut().flatten().filter(|r| r.pending) {
+            r.frame.energies_px = vec![f64::NAN; r.frame.candidates_cm.len()];
+            r.pending = false;
+            count += 1;
+        }
+        count
+    }
+
+    /// The forward filter run again with the best path's choices as its
+    /// measurements (along the line of sight as uncertain as the
+    /// candidates' `spacing_cm`, across as the fits were), ready for
+    /// smoothing; `None` when the search had no frames or does not match
+    /// `first_pass` (which starts at the first frame with a pose, as the
+    /// records do).
+    pub fn refilter(
+        &self,
+        first_pass: &FloorFilter,
+        temperature_px: f64,
+        spacing_cm: f64,
+        dt_s: f64,
+        reacquire_after: usize,
+    ) -> Option<FloorFilter> {
+        let start = self.records.iter().position(|f| f.is_some())?;
+        let records = &self.records[start..];
+        if records.len() != first_pass.frame_count() {
+            return None;
+        }
+        let frames: Vec<PathFrame> = records
+            .iter()
+            .map(|r| {
+                r.as_ref().map_or(
+                    PathFrame {
+                        candidates_cm: Vec::new(),
+                        energies_px: Vec::new(),
+                        expected_step_cm: DVec2::ZERO,
+                        step_sigma_cm: f64::INFINITY,
+                    },
+                    |r| r.frame.clone(),
+                )
+            })
+            .collect();
+        let chosen = best_path(&frames, temperature_px);
+        let along_variance = spacing_cm * spacing_cm;
+        let measurement = |r: &PathRecord, k: usize| {
+            let across = r.along.perp();
+            let basis = DMat2::from_cols(r.along, across);
+            let covariance = basis
+                * DMat2::from_diagonal(DVec2::new(along_variance, r.across_variance_cm2))
+                * basis.transpose();
+            (r.frame.candidates_cm[k], covariance)
+        };
+        let first = records[0].as_ref()?;
+        let (start_cm, _) = measurement(first, chosen[0]);
+        let mut filter = FloorFilter::new(start_cm, spacing_cm, dt_s, reacquire_after);
+        for (record, &k) in records.iter().zip(&chosen).skip(1) {
+            match record {
+                None => {
+                    filter.predict(DVec2::ZERO, 0.0);
+                }
+                Some(r) => {
+                    filter.predict(r.inertial_step_cm, r.frame.step_sigma_cm);
+                    if r.frame.energies_px.iter().any(|e| e.is_finite()) {
+                        let (p, covariance) = measurement(r, k);
+                        filter.update(p, covariance);
+                    }
+                }
+            }
+        }
+        Some(filter)
+    }
 }
 
 #[cfg(test)]

@@ -34,30 +34,7 @@ use glam::{DVec2, DVec3};
 
 use crate::body::shape::PosedBody;
 use crate::camera::{Camera, ImageSize};
-
-/// A rectangle of pixels: columns `left..right`, rows `top..bottom` (half
-/// open; empty when `left == right` or `top == bottom`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
-pub struct PixelBox {
-    pub left: u32,
-    pub top: u32,
-    pub right: u32,
-    pub bottom: u32,
-}
-
-impl PixelBox {
-    pub fn width(&self) -> u32 {
-        self.right.saturating_sub(self.left)
-    }
-
-    pub fn height(&self) -> u32 {
-        self.bottom.saturating_sub(self.top)
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.width() == 0 || self.height() == 0
-    }
-}
+use crate::image::PixelBox;
 
 /// One run of covered pixels: columns `start..end` of image row `row`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]

@@ -11,16 +11,19 @@ use crate::image::GreyImage;
 use crate::image::pipeline::PipelineParams;
 use crate::io::hips_csv::{HipsSample, format_hips_csv};
 use crate::io::recording::Recording;
+use crate::track::setup::TrackSetup;
 use crate::track::suit_motion::{SuitMotion, VideoTiming};
-use crate::track::tracker::{Track, TrackMethod, TrackSetup};
+use crate::track::tracker::{Track, TrackMethod};
 
-/// A take read and checked: the suit's recording, the tracker's setup, and
+/// A take read and checked: the suit's recording, the tracker's setup and method, and
 /// what the user should be told before tracking (frames without a pose,
 /// video and BVH of different lengths).
 #[derive(Clone, Debug)]
 pub struct Take {
     pub recording: Recording,
     pub setup: TrackSetup,
+    /// The tracker it is to be tracked with.
+    pub method: TrackMethod,
     pub warnings: Vec<String>,
 }
 
@@ -64,16 +67,9 @@ impl Take {
             ));
         }
         let shape = body_shape_of(&recording)?;
-        let setup = TrackSetup {
-            camera,
-            suit,
-            shape,
-            timing,
-            background,
-            pipeline: PipelineParams::default(),
-            method,
-        };
-        Ok(Take { recording, setup, warnings })
+        let setup =
+            TrackSetup { camera, suit, shape, timing, background, pipeline: PipelineParams::default() };
+        Ok(Take { recording, setup, method, warnings })
     }
 
     /// Where `track` (tracked with `timing`) puts the hips in each of the

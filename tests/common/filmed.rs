@@ -9,9 +9,10 @@ use embusen::image::pipeline::PipelineParams;
 use embusen::io::bvh::Bvh;
 use embusen::io::recording::{FeetChoice, Recording};
 use embusen::synth::demo::demo;
+use embusen::track::setup::TrackSetup;
 use embusen::track::silhouette::SilhouetteRenderer;
 use embusen::track::suit_motion::{SuitMotion, VideoTiming};
-use embusen::track::tracker::{Track, TrackMethod, TrackSetup, Tracker};
+use embusen::track::tracker::{Track, TrackMethod, Tracker};
 use glam::{DAffine3, DMat3, DVec2, DVec3};
 
 /// A camera 6 m from `target` along −Z and 1.6 m up, looking at it, with a
@@ -99,7 +100,6 @@ pub fn setup(
     background: &GreyImage,
     frames: &[GreyImage],
     fps: f64,
-    method: TrackMethod,
 ) -> TrackSetup {
     let suit = SuitMotion::new(recording).unwrap();
     let shape =
@@ -111,7 +111,6 @@ pub fn setup(
         timing: VideoTiming { fps, frame_count: frames.len(), offset_s: 0.0 },
         background: background.clone(),
         pipeline: PipelineParams::default(),
-        method,
     }
 }
 
@@ -123,11 +122,11 @@ pub fn track(
     fps: f64,
     method: TrackMethod,
 ) -> Track {
-    run(setup(recording, camera, background, frames, fps, method), frames)
+    run(setup(recording, camera, background, frames, fps), method, frames)
 }
 
-pub fn run(setup: TrackSetup, frames: &[GreyImage]) -> Track {
-    let mut tracker = Tracker::new(setup).unwrap();
+pub fn run(setup: TrackSetup, method: TrackMethod, frames: &[GreyImage]) -> Track {
+    let mut tracker = Tracker::new(setup, method).unwrap();
     for frame in frames {
         tracker.push_frame(frame).unwrap();
     }

@@ -6,39 +6,22 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use embusen::Error;
+use embusen::app::tracking::{Background, TakeInputs, TrackingJob, VideoDescription};
 use embusen::camera::Camera;
 use embusen::eval::track::{TrackErrors, track_errors};
 use embusen::image::GreyImage;
-use embusen::image::background::{MEDIAN_FRAMES, median_background};
+use embusen::image::background::MEDIAN_FRAMES;
 use embusen::io::hips_csv::parse_hips_csv;
 use embusen::io::image_file::{ImageSequence, open_png_grey};
 use embusen::io::recording::Recording;
 use embusen::io::video::{Ffmpeg, VideoFrames, sample_frames};
 use embusen::signal::stats::median;
-use embusen::track::offset::{OFFSET_REACH_S, estimate_offset_s, is_offset_sample};
-use embusen::track::paper::PaperTrackParams;
-use embusen::track::suit_motion::{SuitMotion, VideoTiming};
-use embusen::track::take::Take;
-use embusen::track::tracker::{FusedParams, Track, TrackMethod, TrackSetup, Tracker};
+use embusen::track::fused::FusedParams;
+use embusen::track::riecicky::RiecickyParams;
+use embusen::track::suit_motion::SuitMotion;
+use embusen::track::take::TakeExport;
+use embusen::track::tracker::TrackMethod;
 use glam::DVec2;
-
-#[derive(Clone, Copy, clap::ValueEnum)]
-pub enum TrackMethodArg {
-    /// embusen's: the suit's motion predicts, the camera corrects, a
-    /// forward–backward smoother weighs both.
-    Fused,
-    /// Riečický et al.'s, as published: 25 positions around the last, 10 cm apart.
-    Paper,
-}
-
-impl TrackMethodArg {
-    fn method(self) -> TrackMethod {
-        match self {
-            TrackMethodArg::Fused => TrackMethod::Fused(FusedParams::default()),
-            TrackMethodArg::Paper => TrackMethod::Paper(PaperTrackParams::default()),
-        }
-    }
-}
 
 #[derive(clap::Args)]
 pub struct TrackArgs {
@@ -63,7 +46,7 @@ pub struct TrackArgs {
     #[arg(long, value_name = "BG.png")]
     background: Option<PathBuf>,
     #[arg(long, value_enum, default_value = "fused")]
-    method: TrackMethodArg,
+    method: TrackMethod,
     /// How far the BVH's clock runs ahead of the video's (s).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     offset_s: f64,
@@ -141,6 +124,12 @@ impl Frames {
         }
     }
 
+    /// The frames as the tracking job wants them described.
+    fn description(&self) -> Result<VideoDescription, Error> {
+        let (width_px, height_px) = self.size_px()?;
+        Ok(VideoDescription { width_px, height_px, fps: self.fps(), frame_count: self.frame_count() })
+    }
+
     fn next_frame(&mut self) -> Option<Result<GreyImage, Error>> {
         match self {
             Frames::Video(v) => v.next_frame(),
@@ -191,45 +180,23 @@ fn camera_from_board(still: &Path, _lens: Option<&Camera>) -> Result<Camera, Err
 
 /// The background: the still when given, else the median of 31 frames
 /// spread over the video (read once more from the start).
-fn background(
-    still: Option<&Path>,
-    video: &Path,
-    fps: Option<f64>,
-    warnings: &mut Vec<String>,
-) -> Result<GreyImage, Error> {
+fn background(still: Option<&Path>, video: &Path, fps: Option<f64>) -> Result<Background, Error> {
     if let Some(still) = still {
-        return open_png_grey(still);
+        return open_png_grey(still).map(Background::still);
     }
     let frames = Frames::open(video, fps)?;
     let count = frames.frame_count();
     let sampled = sample_frames(frames, count, MEDIAN_FRAMES)?;
-    warnings.push(format!(
-        "no background still: the median of {} frames of the video stands for the empty room",
-        sampled.len()
-    ));
-    median_background(&sampled, &video.display().to_string())
+    Background::median_of(&sampled, &video.display().to_string())
 }
 
-/// Runs the tracker over `frames`; the milliseconds per frame it took (not
-/// counting the decoding).
-fn run_tracker(setup: TrackSetup, frames: &mut Frames, progress: bool) -> Result<(Track, f64), Error> {
-    run_tracker_keeping(setup, frames, progress, false).map(|(track, ms, _)| (track, ms))
-}
+/// What a tracking job wrote, the milliseconds per frame the tracking took
+/// (not counting the decoding), and the warnings the tracking added.
+type JobRun = (TakeExport, f64, Vec<String>);
 
-/// A video frame kept, with its index.
-type Sample = (usize, GreyImage);
-
-/// As [`run_tracker`], keeping `keep` frames spread over the video (with
-/// their indices).
-fn run_tracker_keeping(
-    setup: TrackSetup,
-    frames: &mut Frames,
-    progress: bool,
-    keep_offset_samples: bool,
-) -> Result<(Track, f64, Vec<Sample>), Error> {
+/// Feeds `frames` to `job` and finishes it.
+fn run_job(job: &mut TrackingJob, frames: &mut Frames, progress: bool) -> Result<JobRun, Error> {
     let count = frames.frame_count();
-    let mut kept = Vec::new();
-    let mut tracker = Tracker::new(setup)?;
     let bar =
         if progress { indicatif::ProgressBar::new(count as u64) } else { indicatif::ProgressBar::hidden() };
     bar.set_style(
@@ -240,17 +207,24 @@ fn run_tracker_keeping(
     while let Some(frame) = frames.next_frame() {
         let frame = frame?;
         let started = Instant::now();
-        tracker.push_frame(&frame)?;
+        job.push_grey(&frame)?;
         busy_s += started.elapsed().as_secs_f64();
-        let index = tracker.frame_count() - 1;
-        if keep_offset_samples && is_offset_sample(index, count) {
-            kept.push((index, frame));
-        }
         bar.inc(1);
     }
     bar.finish_and_clear();
-    let n = tracker.frame_count().max(1);
-    Ok((tracker.finish(), 1000.0 * busy_s / n as f64, kept))
+    let n = job.frames_done().max(1);
+    let ms_per_frame = 1000.0 * busy_s / n as f64;
+    let (export, warnings) = job.finish()?;
+    Ok((export, ms_per_frame, warnings))
+}
+
+/// The tracking job of a video file, its size and rate as ffprobe says.
+fn open_job(inputs: TakeInputs, video: &Path, method: TrackMethod) -> Result<(TrackingJob, Frames), Error> {
+    let frames = Frames::open(video, None)?;
+    let description = frames.description()?;
+    let name = video.display().to_string();
+    let job = TrackingJob::new(inputs, &name, description, method, 0.0)?;
+    Ok((job, frames))
 }
 
 /// `OUT.bvh` → `OUT.track.csv`.
@@ -283,35 +257,25 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
     if frames.frame_count() == 0 {
         return Err(Error::whole(&video_name, "has no frames"));
     }
-    let (width_px, height_px) = frames.size_px()?;
-    camera.check_image_size(width_px, height_px, &video_name)?;
-    let mut warnings = Vec::new();
-    let background = background(args.background.as_deref(), &args.video, args.fps, &mut warnings)?;
-    let session = Take::new(
-        recording,
-        camera,
-        background,
-        VideoTiming { fps: frames.fps(), frame_count: frames.frame_count(), offset_s: args.offset_s },
-        args.method.method(),
-        warnings,
-    )?;
-    for w in &session.warnings {
+    let video = frames.description()?;
+    let background = background(args.background.as_deref(), &args.video, args.fps)?;
+    let inputs = TakeInputs { recording, camera, background };
+    let mut job = TrackingJob::new(inputs, &video_name, video, args.method, args.offset_s)?;
+    for w in job.warnings() {
         eprintln!("warning: {w}");
     }
-    let mut timing = session.setup.timing;
-    let setup = session.setup.clone();
-    let (mut track, mut ms_per_frame, kept) =
-        run_tracker_keeping(setup.clone(), &mut frames, true, args.estimate_offset)?;
     if args.estimate_offset {
-        match estimate_offset_s(&setup, &track, &kept, OFFSET_REACH_S) {
+        job.keep_offset_samples();
+    }
+    let (mut export, mut ms_per_frame, mut warnings) = run_job(&mut job, &mut frames, true)?;
+    if args.estimate_offset {
+        match job.estimate_offset()? {
             Some(estimate) => {
                 println!("estimated offset: the BVH runs {:.3} s ahead of the video", estimate.offset_s);
-                if (estimate.offset_s - timing.offset_s).abs() * timing.fps > 0.5 {
-                    timing.offset_s = estimate.offset_s;
-                    let mut again = setup;
-                    again.timing = timing;
-                    (track, ms_per_frame) =
-                        run_tracker(again, &mut Frames::open(&args.video, args.fps)?, true)?;
+                if let Some(again) = job.retrack_at(&estimate)? {
+                    job = again;
+                    let mut frames = Frames::open(&args.video, args.fps)?;
+                    (export, ms_per_frame, warnings) = run_job(&mut job, &mut frames, true)?;
                 }
             }
             None => {
@@ -319,20 +283,22 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
             }
         }
     }
-    for w in &track.warnings {
+    for w in &warnings {
         eprintln!("warning: {w}");
     }
-    let export = session.export(&track, &timing);
+    let Some(track) = job.track() else {
+        return Err(Error::whole(&video_name, "the tracking did not finish"));
+    };
     let out_name = args.output.display().to_string();
-    std::fs::write(&args.output, export.recording_text)
+    std::fs::write(&args.output, &export.recording_text)
         .map_err(|e| Error::whole(&out_name, format!("cannot write: {e}")))?;
     let csv = csv_path(&args.output);
-    std::fs::write(&csv, export.track_csv)
+    std::fs::write(&csv, &export.track_csv)
         .map_err(|e| Error::whole(&csv.display().to_string(), format!("cannot write: {e}")))?;
     let seen = track.frames.iter().filter(|f| f.confidence > 0.0).count();
     println!(
         "{}: {} frames tracked ({} seen by the camera), {ms_per_frame:.1} ms per frame; wrote {out_name} and {}",
-        track.method.name(),
+        track.method().name(),
         track.frames.len(),
         seen,
         csv.display()
@@ -422,29 +388,19 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
             errors: track_errors(&suit_floor, &truth_floor),
             ms_per_frame: 0.0,
         });
-        let mut background_warnings = Vec::new();
-        let room = background(
-            background_still.is_file().then_some(background_still.as_path()),
-            &video,
-            None,
-            &mut background_warnings,
-        )?;
-        for method in [TrackMethodArg::Paper, TrackMethodArg::Fused] {
-            let (background, warnings) = (room.clone(), background_warnings.clone());
-            let mut frames = Frames::open(&video, None)?;
-            let session = Take::new(
-                recording.clone(),
-                camera,
-                background,
-                VideoTiming { fps: frames.fps(), frame_count: frames.frame_count(), offset_s: 0.0 },
-                method.method(),
-                warnings,
-            )?;
-            let (track, ms_per_frame) = run_tracker(session.setup, &mut frames, false)?;
+        let room =
+            background(background_still.is_file().then_some(background_still.as_path()), &video, None)?;
+        for method in
+            [TrackMethod::Paper(RiecickyParams::default()), TrackMethod::Fused(FusedParams::default())]
+        {
+            let inputs = TakeInputs { recording: recording.clone(), camera, background: room.clone() };
+            let (mut job, mut frames) = open_job(inputs, &video, method)?;
+            let (_, ms_per_frame, _) = run_job(&mut job, &mut frames, false)?;
+            let Some(track) = job.track() else { continue };
             let floor: Vec<DVec2> = track.frames.iter().map(|f| f.floor_cm).collect();
             let row = SceneRow {
                 scene: name.clone(),
-                method: track.method.name(),
+                method: track.method().name(),
                 errors: track_errors(&floor, &truth_floor),
                 ms_per_frame,
             };
@@ -452,23 +408,16 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
             rows.push(row);
         }
         if args.camera_oracle {
-            let mut frames = Frames::open(&video, None)?;
-            let session = Take::new(
-                recording.clone(),
-                camera,
-                room.clone(),
-                VideoTiming { fps: frames.fps(), frame_count: frames.frame_count(), offset_s: 0.0 },
-                TrackMethodArg::Fused.method(),
-                Vec::new(),
-            )?;
-            let mut tracker = Tracker::new(session.setup)?;
+            let method = TrackMethod::Fused(FusedParams::default());
+            let inputs = TakeInputs { recording: recording.clone(), camera, background: room.clone() };
+            let (mut job, mut frames) = open_job(inputs, &video, method)?;
             let started = Instant::now();
             let mut floor = Vec::new();
             let mut i = 0;
             while let Some(frame) = frames.next_frame() {
                 let frame = frame?;
                 let Some(&around) = truth_floor.get(i) else { break };
-                floor.push(tracker.camera_oracle(&frame, i, around, ORACLE_REACH_CM)?.unwrap_or(DVec2::NAN));
+                floor.push(job.camera_oracle(&frame, i, around, ORACLE_REACH_CM)?.unwrap_or(DVec2::NAN));
                 i += 1;
             }
             let row = SceneRow {

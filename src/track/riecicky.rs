@@ -11,14 +11,22 @@
 //! `steps × step_cm` from the last position, so a body that gets 30 cm
 //! behind stays behind: that is one of the limits the paper states, kept
 //! here on purpose.
+//!
+//! [`RiecickyTracker`] is this tracker's state between frames; `tracker`
+//! runs it (or the fused one) over a video.
 
 use glam::DVec2;
 
+use crate::body::shape::PosedBody;
+use crate::error::Error;
+use crate::image::pipeline::Features;
 use crate::signal::smoothing::smooth_gaussian_clean;
+use crate::track::energy::{FrameTerms, Scorer};
+use crate::track::setup::FrameEstimate;
 
 /// The paper's parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PaperTrackParams {
+pub struct RiecickyParams {
     /// Floor directions tried, evenly spread (8).
     pub directions: usize,
     /// Steps tried along each direction (3).
@@ -30,13 +38,17 @@ pub struct PaperTrackParams {
     pub smoothing_steps: f64,
 }
 
-impl Default for PaperTrackParams {
+impl Default for RiecickyParams {
     fn default() -> Self {
-        PaperTrackParams { directions: 8, steps: 3, step_cm: 10.0, smoothing_steps: 20.0 }
+        RiecickyParams::PUBLISHED
     }
 }
 
-impl PaperTrackParams {
+impl RiecickyParams {
+    /// The paper's own: 8 directions × 3 steps of 10 cm, smoothed over 20 frames.
+    pub const PUBLISHED: RiecickyParams =
+        RiecickyParams { directions: 8, steps: 3, step_cm: 10.0, smoothing_steps: 20.0 };
+
     /// An error naming the parameter that makes no search.
     pub fn check(&self) -> Result<(), String> {
         if self.directions == 0 || self.directions > 360 {
@@ -75,14 +87,14 @@ impl PaperTrackParams {
 
 /// One frame's search: every candidate with its energy, and the one chosen.
 #[derive(Clone, Debug, PartialEq)]
-pub struct PaperFrame {
+pub struct RiecickyFrame {
     pub candidates: Vec<(DVec2, f64)>,
     /// Index into `candidates` of the least energy (the first of equals;
     /// the last position when no candidate has a finite energy).
     pub chosen: usize,
 }
 
-impl PaperFrame {
+impl RiecickyFrame {
     pub fn position(&self) -> DVec2 {
         self.candidates[self.chosen].0
     }
@@ -90,11 +102,11 @@ impl PaperFrame {
 
 /// One frame of the paper's search from `last`, `energy` scoring a floor
 /// position (NaN or infinite where the silhouette is not in the image).
-pub fn paper_step(
+pub fn riecicky_step(
     last: DVec2,
-    params: &PaperTrackParams,
+    params: &RiecickyParams,
     mut energy: impl FnMut(DVec2) -> f64,
-) -> PaperFrame {
+) -> RiecickyFrame {
     let candidates: Vec<(DVec2, f64)> = params.candidates(last).into_iter().map(|p| (p, energy(p))).collect();
     let mut chosen = 0;
     for (i, (_, e)) in candidates.iter().enumerate() {
@@ -103,16 +115,72 @@ pub fn paper_step(
             chosen = i;
         }
     }
-    PaperFrame { candidates, chosen }
+    RiecickyFrame { candidates, chosen }
 }
 
 /// The paper's smoothing of the chosen positions.
-pub fn paper_smooth(path: &[DVec2], params: &PaperTrackParams) -> Vec<DVec2> {
+pub fn riecicky_smooth(path: &[DVec2], params: &RiecickyParams) -> Vec<DVec2> {
     let axis = |get: fn(&DVec2) -> f64| {
         smooth_gaussian_clean(&path.iter().map(get).collect::<Vec<_>>(), params.smoothing_steps, 2.5)
     };
     let (x, y) = (axis(|p| p.x), axis(|p| p.y));
     x.into_iter().zip(y).map(|(x, y)| DVec2::new(x, y)).collect()
+}
+
+/// The paper's tracker in the middle of a video.
+pub struct RiecickyTracker {
+    params: RiecickyParams,
+    /// The positions chosen so far, unsmoothed, one per frame.
+    path: Vec<DVec2>,
+    /// Each frame's candidates with their energies (none without a pose).
+    candidates: Vec<Vec<(DVec2, f64)>>,
+}
+
+impl RiecickyTracker {
+    /// An error naming the parameter that makes no search.
+    pub fn new(params: RiecickyParams) -> Result<RiecickyTracker, Error> {
+        params.check().map_err(|m| Error::whole("<paper tracker>", m))?;
+        Ok(RiecickyTracker { params, path: Vec::new(), candidates: Vec::new() })
+    }
+
+    pub fn params(&self) -> RiecickyParams {
+        self.params
+    }
+
+    /// A frame without a pose: the body stays at `floor_cm`.
+    pub fn skip_frame(&mut self, floor_cm: DVec2) {
+        self.path.push(floor_cm);
+        self.candidates.push(Vec::new());
+    }
+
+    /// The search in one frame, `body` scored against its `features`.
+    pub fn frame(&mut self, scorer: &mut Scorer, body: &PosedBody, features: &Features) -> FrameEstimate {
+        // The paper's energy is untruncated; the terms' truncation is unused.
+        let terms = FrameTerms::new(
+            &features.edge_distance,
+            &features.outside_distance,
+            &features.foreground,
+            f32::INFINITY,
+        );
+        // The board's origin is the actor's start.
+        let last = self.path.last().copied().unwrap_or(DVec2::ZERO);
+        let mut fits = Vec::new();
+        let frame = riecicky_step(last, &self.params, |p| {
+            let fit = scorer.plain_fit(&terms, body, p);
+            fits.push(fit);
+            fit.map_or(f64::NAN, |f| f.chamfer_px)
+        });
+        let position = frame.position();
+        self.path.push(position);
+        self.candidates.push(frame.candidates);
+        let confidence = fits[frame.chosen].map_or(0.0, |f| f.confidence());
+        FrameEstimate { floor_cm: position, confidence, measured_cm: Some(position) }
+    }
+
+    /// The smoothed path, and each frame's candidates.
+    pub fn finish(self) -> (Vec<DVec2>, Vec<Vec<(DVec2, f64)>>) {
+        (riecicky_smooth(&self.path, &self.params), self.candidates)
+    }
 }
 
 #[cfg(test)]
@@ -121,7 +189,7 @@ mod tests {
 
     #[test]
     fn twenty_five_positions_around_the_last_one() {
-        let params = PaperTrackParams::default();
+        let params = RiecickyParams::default();
         let candidates = params.candidates(DVec2::new(5.0, -5.0));
         assert_eq!(candidates.len(), 25);
         assert_eq!(candidates[0], DVec2::new(5.0, -5.0));
@@ -132,17 +200,17 @@ mod tests {
 
     #[test]
     fn the_search_takes_the_least_energy_and_cannot_catch_up_past_its_reach() {
-        let params = PaperTrackParams::default();
+        let params = RiecickyParams::default();
         let target = DVec2::new(100.0, 0.0);
         let mut position = DVec2::ZERO;
         for _ in 0..2 {
-            position = paper_step(position, &params, |p| (p - target).length()).position();
+            position = riecicky_step(position, &params, |p| (p - target).length()).position();
         }
         // Two frames of 30 cm reach 60 cm, not the 100 cm away.
         assert!((position - DVec2::new(60.0, 0.0)).length() < 1e-9);
         // A frame whose every energy is unknown keeps the last position.
-        let frame = paper_step(position, &params, |_| f64::NAN);
+        let frame = riecicky_step(position, &params, |_| f64::NAN);
         assert_eq!(frame.position(), position);
-        assert!(PaperTrackParams { steps: 0, ..params }.check().is_err());
+        assert!(RiecickyParams { steps: 0, ..params }.check().is_err());
     }
 }

@@ -1,0 +1,699 @@
+//! embusen's camera tracker (`fused`): the suit's motion predicts, the
+//! camera corrects, a forward–backward smoother weighs both. It removes
+//! what Riečický et al. (`riecicky`) list as their tracker's limits:
+//! - **the motion is predicted** by the contact method's floor path (the
+//!   suit's own steps), not assumed still, and how far the prediction may be
+//!   wrong grows with the step ([`FusedParams::stride_error`]: the suit's
+//!   strides come out 6–22 % short or long) and with time;
+//! - **the search is continuous**, coarse to fine around the prediction to
+//!   half a centimetre, over as wide a square as the prediction's
+//!   uncertainty asks;
+//! - **the energy cannot slide into clutter**: truncated contour distances
+//!   plus the silhouette's area off the foreground (`energy`), **nor
+//!   shrink away** along the line of sight: the foreground left uncovered
+//!   in a band around the body counts too;
+//! - **each measurement says how well it sees**: its covariance, along the
+//!   camera's line of sight and across it, is the larger of what the
+//!   energy's own curvature there allows and of the matching precision in
+//!   pixels through the image's sensitivity to a floor shift. Along the line
+//!   of sight a silhouette barely changes (a body 20 cm farther is a body 3 %
+//!   smaller), so there the suit's steps carry most of the weight, and a
+//!   poor fit (low confidence) counts for less; frames where the body is out
+//!   of view, or the fit is not believable, are carried by the prediction
+//!   alone;
+//! - **the smoothing is a forward–backward Kalman smoother**
+//!   (`smoother`), not a fixed Gaussian, and it learns how the suit's strides
+//!   and heading are off from what the camera sees.
+//!
+//! A frame is read in two steps: [`FusedTracker::predict`] (which also says
+//! how far the frame's distance transforms are needed), then
+//! [`FusedTracker::frame`]: search, measure, the path's candidates (`path`).
+
+use glam::{DMat2, DVec2, DVec3};
+
+use crate::body::shape::{BodyShape, PosedBody};
+use crate::camera::Camera;
+use crate::error::Error;
+use crate::image::GreyImage;
+use crate::image::pipeline::Features;
+use crate::track::energy::{BandedBody, FrameTerms, Scorer, SilhouetteFit};
+use crate::track::path::{PathFrame, PathRecord, PathRequest, PathSearch};
+use crate::track::search::coarse_to_fine;
+use crate::track::setup::{FrameEstimate, TrackSetup};
+use crate::track::smoother::{FloorFilter, Measurement};
+use crate::track::suit_motion::{BvhInstant, SuitMotion};
+
+/// embusen's tracker's parameters; each has its physical reason.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FusedParams {
+    /// How wrong an inertial step may be, as a share of its length: the
+    /// suit's pose moves a planted foot relative to the hips by 0.78–0.94 of
+    /// the true distance at the real suit's error level (docs/contact.md).
+    pub stride_error: f64,
+    /// How fast the inertial path may drift where the body barely moves
+    /// (cm/s): a slow slide of the planted feet.
+    pub drift_cm_per_s: f64,
+    /// How precisely a good fit places the silhouette (px, one σ): the body
+    /// model's girths and the suit's limb angles are each off by a pixel or
+    /// two at a few metres.
+    pub match_sigma_px: f64,
+    /// The search reaches this many σ of the prediction's uncertainty ...
+    pub search_sigmas: f64,
+    /// ... but at least this far (cm) ...
+    pub min_search_cm: f64,
+    /// ... and at most this far (cm): a step and a half of a run in one frame.
+    pub max_search_cm: f64,
+    /// The search's last spacing (cm).
+    pub resolution_cm: f64,
+    /// A contour pixel's distance to an edge counts up to this much (cm at
+    /// the body's distance, so the same at any resolution): about a limb's
+    /// width, past which the pixel is simply not on its edge.
+    pub truncation_cm: f64,
+    /// The weight of the silhouette's area off the foreground beside the
+    /// contour's distance to the edges.
+    pub mask_weight: f64,
+    /// The weight of the foreground left uncovered in the band around the
+    /// silhouette. Less than the area's: the band also catches the blur and
+    /// the penumbra at the outline and the girths the body model misses
+    /// (0.5 measured best of 0.3–2 on the shared scenes; 0 turns it off).
+    pub uncovered_weight: f64,
+    /// The band's width (cm at the body): about a forearm's radius, wide
+    /// enough to be many pixels at any distance, narrow enough to stay off
+    /// a neighbouring limb or person.
+    pub band_cm: f64,
+    /// The path search (`path`) tries candidates this far (cm) either side
+    /// of each frame's fit along the line of sight (0 turns it off) ...
+    pub path_reach_cm: f64,
+    /// ... this far apart (cm) ...
+    pub path_spacing_cm: f64,
+    /// ... and takes an energy this much (px) above the frame's least as
+    /// one nat of cost.
+    pub path_temperature_px: f64,
+    /// Below this confidence a fit is not used.
+    pub min_confidence: f64,
+    /// After this long (s) of fits rejected as too far from the prediction,
+    /// the prediction is taken for lost and the camera trusted again.
+    pub reacquire_after_s: f64,
+    /// How far the first frame's search reaches around its starting guess (cm).
+    pub start_search_cm: f64,
+}
+
+impl Default for FusedParams {
+    fn default() -> Self {
+        FusedParams::DEFAULT
+    }
+}
+
+impl FusedParams {
+    /// embusen's settings, measured on the shared scenes.
+    pub const DEFAULT: FusedParams = FusedParams {
+        stride_error: 0.15,
+        drift_cm_per_s: 10.0,
+        match_sigma_px: 1.5,
+        search_sigmas: 3.0,
+        min_search_cm: 10.0,
+        max_search_cm: 60.0,
+        resolution_cm: 0.5,
+        truncation_cm: 10.0,
+        mask_weight: 1.0,
+        uncovered_weight: 0.5,
+        band_cm: 5.0,
+        path_reach_cm: 100.0,
+        path_spacing_cm: 4.0,
+        path_temperature_px: 0.025,
+        min_confidence: 0.2,
+        reacquire_after_s: 0.5,
+        start_search_cm: 80.0,
+    };
+}
+
+/// Where the fused tracker expects the body in a frame, before reading it.
+#[derive(Clone, Copy, Debug)]
+pub struct FusedPrediction {
+    /// The filter's prediction and how far around it to search (cm); `None`
+    /// in the first frame, searched for around a guess from the frame itself.
+    predicted: Option<(DVec2, f64)>,
+    /// The filter's position before the prediction.
+    before_cm: Option<DVec2>,
+    /// The suit's step into this frame and its uncertainty (cm, one σ).
+    step_cm: DVec2,
+    step_sigma_cm: f64,
+    /// How far the frame's distance transforms are needed (px): the energy
+    /// reads them only up to its truncation, so they are computed only so
+    /// far, near the foreground (the same values).
+    pub truncate_px: Option<f32>,
+}
+
+/// What the search and the filter made of a frame.
+#[derive(Clone, Copy, Debug, Default)]
+struct Measured {
+    /// Where the search started.
+    prediction_cm: DVec2,
+    /// The least energy's position, if any.
+    fit_cm: Option<DVec2>,
+    /// Whether its fit is believable (used here and by the path search).
+    believable: bool,
+    /// What the filter took: the fit's confidence and position where used.
+    confidence: f64,
+    measured_cm: Option<DVec2>,
+    /// How uncertain the fit was across the line of sight (cm²).
+    across_variance_cm2: Option<f64>,
+}
+
+/// The fused tracker in the middle of a video.
+pub struct FusedTracker {
+    params: FusedParams,
+    /// The forward filter, from the first frame with a pose on.
+    filter: Option<FloorFilter>,
+    path: PathSearch,
+}
+
+impl FusedTracker {
+    pub fn new(params: FusedParams) -> FusedTracker {
+        FusedTracker { params, filter: None, path: PathSearch::default() }
+    }
+
+    pub fn params(&self) -> FusedParams {
+        self.params
+    }
+
+    /// The path search's frames, its energies perhaps deferred.
+    pub fn path(&mut self) -> &mut PathSearch {
+        &mut self.path
+    }
+
+    /// How many frames still wait for their path energies.
+    pub fn path_energies_pending(&self) -> usize {
+        self.path.pending()
+    }
+
+    /// A frame without a pose: the suit says nothing, the filter carries on.
+    pub fn skip_frame(&mut self) {
+        self.path.next_frame();
+        if let Some(filter) = &mut self.filter {
+            filter.predict(DVec2::ZERO, 0.0);
+        }
+        self.path.push(None, None);
+    }
+
+    /// A frame's first step: the filter's prediction from the suit's step
+    /// into video frame `i` (at `instant` of the BVH), and how far the
+    /// frame's features are needed.
+    pub fn predict(&mut self, setup: &TrackSetup, instant: BvhInstant, i: usize) -> FusedPrediction {
+        self.path.next_frame();
+        let params = &self.params;
+        let pipeline_truncate_px = setup.pipeline.truncate_px;
+        let Some(filter) = &mut self.filter else {
+            // The first frame is searched for over the whole image.
+            return FusedPrediction {
+                predicted: None,
+                before_cm: None,
+                step_cm: DVec2::ZERO,
+                step_sigma_cm: f64::INFINITY,
+                truncate_px: pipeline_truncate_px,
+            };
+        };
+        let before_cm = Some(filter.current().0);
+        let before = setup.suit.instant(setup.timing.bvh_time_s(i.saturating_sub(1)));
+        let path = &setup.suit.inertial_floor_cm;
+        let step_cm = match (SuitMotion::floor_at(path, before), SuitMotion::floor_at(path, instant)) {
+            (Some(a), Some(b)) => b - a,
+            _ => DVec2::ZERO,
+        };
+        let dt = 1.0 / setup.timing.fps;
+        let step_sigma_cm = params.stride_error * step_cm.length() + params.drift_cm_per_s * dt;
+        let (predicted, covariance) = filter.predict(step_cm, step_sigma_cm);
+        let spread = largest_sigma_cm(covariance);
+        let radius_cm = (params.search_sigmas * spread).clamp(params.min_search_cm, params.max_search_cm);
+        let (truncation_px, _) = fused_truncation_px(&setup.camera, params, predicted);
+        FusedPrediction {
+            predicted: Some((predicted, radius_cm)),
+            before_cm,
+            step_cm,
+            step_sigma_cm,
+            truncate_px: Some(pipeline_truncate_px.map_or(truncation_px, |t| t.min(truncation_px))),
+        }
+    }
+
+    /// A frame's second step, video frame `i` read: `body` (posed as the
+    /// suit says) searched for around the prediction in `features`
+    /// (computed as `prediction` asked), the fit measured into the filter,
+    /// the path search's candidates recorded.
+    pub fn frame(
+        &mut self,
+        setup: &TrackSetup,
+        scorer: &mut Scorer,
+        body: &PosedBody,
+        features: &Features,
+        prediction: &FusedPrediction,
+        i: usize,
+    ) -> FrameEstimate {
+        let params = self.params;
+        let (prediction_cm, radius_cm) = match prediction.predicted {
+            Some(p) => p,
+            None => (first_guess(&setup.camera, scorer, features, body), params.start_search_cm),
+        };
+        let mut scoring = FrameScoring::new(setup, &params, scorer, body, features, prediction_cm);
+        let fit = scoring.search(prediction_cm, radius_cm);
+        let dt = 1.0 / setup.timing.fps;
+        let reacquire_after = reacquire_after_frames(&params, dt);
+        let filter = self
+            .filter
+            .get_or_insert_with(|| FloorFilter::new(prediction_cm, radius_cm, dt, reacquire_after));
+        let mut measured = Measured { prediction_cm, fit_cm: fit.map(|(p, _)| p), ..Measured::default() };
+        // A fit not believable is not used, here nor by the path search.
+        if let Some((p, fit)) = fit
+            && fit.confidence() >= params.min_confidence
+        {
+            measured.believable = true;
+            scoring.measure(filter, body, p, &fit, &mut measured);
+        }
+        if params.path_reach_cm > 0.0 && params.path_spacing_cm > 0.0 {
+            let (record, request) = scoring.path_record(prediction, &measured, self.path.is_deferred(), i);
+            self.path.push(Some(record), request);
+        }
+        FrameEstimate {
+            floor_cm: filter.current().0,
+            confidence: measured.confidence,
+            measured_cm: measured.measured_cm,
+        }
+    }
+
+    /// The smoothed path (`None` when no frame had a pose: the frames stay
+    /// as they were), the filter's mean squared innovation, and what the
+    /// user should know: deferred path energies that never came count as a
+    /// fit not believed.
+    pub fn finish(mut self, dt_s: f64) -> (Option<Vec<DVec2>>, f64, Vec<String>) {
+        let mut warnings = Vec::new();
+        let never_came = self.path.give_up_pending();
+        if never_came > 0 {
+            warnings
+                .push(format!("{never_came} frames' path energies never came: the suit's steps carry them"));
+        }
+        let Some(filter) = &self.filter else { return (None, f64::NAN, warnings) };
+        let params = &self.params;
+        let searched = self.path.refilter(
+            filter,
+            params.path_temperature_px,
+            params.path_spacing_cm,
+            dt_s,
+            reacquire_after_frames(params, dt_s),
+        );
+        let smoothed = searched.as_ref().unwrap_or(filter).smooth().into_iter().map(|(p, _)| p).collect();
+        (Some(smoothed), filter.mean_innovation(), warnings)
+    }
+}
+
+/// One frame as the fused energy scores it: its terms near the
+/// prediction, the body with its band, and the scorer that renders it.
+struct FrameScoring<'a> {
+    camera: Camera,
+    params: FusedParams,
+    scorer: &'a mut Scorer,
+    terms: FrameTerms<'a>,
+    banded: BandedBody,
+}
+
+impl<'a> FrameScoring<'a> {
+    fn new(
+        setup: &TrackSetup,
+        params: &FusedParams,
+        scorer: &'a mut Scorer,
+        body: &PosedBody,
+        features: &'a Features,
+        near_cm: DVec2,
+    ) -> FrameScoring<'a> {
+        let (terms, depth_cm) = fused_terms(&setup.camera, params, features, near_cm);
+        let banded = banded_body(&setup.shape, body, &setup.camera, params, depth_cm);
+        FrameScoring { camera: setup.camera, params: *params, scorer, terms, banded }
+    }
+
+    /// The fused energy at `floor_cm`; NaN where the body is not in the image.
+    fn energy(&mut self, floor_cm: DVec2) -> f64 {
+        fused_energy(self.scorer, &self.terms, &self.banded, floor_cm, &self.params)
+    }
+
+    /// The least energy within `radius_cm` of `around_cm`, and its fit.
+    fn search(&mut self, around_cm: DVec2, radius_cm: f64) -> Option<(DVec2, SilhouetteFit)> {
+        let found = coarse_to_fine(around_cm, radius_cm, self.params.resolution_cm, |p| self.energy(p));
+        found.and_then(|(p, _)| self.scorer.banded_fit(&self.terms, &self.banded, p).map(|fit| (p, fit)))
+    }
+
+    /// The believable `fit` at `p` as a measurement: its covariance, along
+    /// the camera's line of sight and across it, the larger of what the
+    /// energy's curvature there allows and of the matching precision
+    /// through the image's sensitivity; handed to `filter`, and what it
+    /// took written into `measured`.
+    fn measure(
+        &mut self,
+        filter: &mut FloorFilter,
+        body: &PosedBody,
+        p: DVec2,
+        fit: &SilhouetteFit,
+        measured: &mut Measured,
+    ) {
+        let params = self.params;
+        let sigma_px = params.match_sigma_px / fit.confidence();
+        let geometric = measurement_covariance(&self.camera, body, p, sigma_px);
+        let along = line_of_sight(&self.camera, p);
+        let across = along.perp();
+        let e0 = fit.fused_energy(params.mask_weight, params.uncovered_weight);
+        let h = CURVATURE_STEP_CM;
+        let mut sigma2 = [0.0; 2];
+        for (k, u) in [along, across].into_iter().enumerate() {
+            let (plus, minus) = (self.energy(p + u * h), self.energy(p - u * h));
+            let curvature = (plus + minus - 2.0 * e0) / (h * h);
+            // The energy is a mean over the contour; it is as uncertain
+            // as `ENERGY_NOISE_PX`, which moves the minimum by σ with
+            // ½ κ σ² = noise. A flat (or concave) valley says nothing.
+            sigma2[k] = if curvature > 0.0 { 2.0 * ENERGY_NOISE_PX / curvature } else { f64::INFINITY };
+        }
+        let covariance = geometric.and_then(|g| {
+            let project = |u: DVec2| u.dot(g * u);
+            let (r, a) = (sigma2[0].max(project(along)), sigma2[1].max(project(across)));
+            let limit = MAX_MEASUREMENT_SIGMA_CM * MAX_MEASUREMENT_SIGMA_CM;
+            (r.is_finite() && a.is_finite()).then(|| {
+                let basis = DMat2::from_cols(along, across);
+                basis * DMat2::from_diagonal(DVec2::new(r.min(limit), a.min(limit))) * basis.transpose()
+            })
+        });
+        if let Some(covariance) = covariance {
+            measured.across_variance_cm2 = Some(across.dot(covariance * across));
+            match filter.update(p, covariance) {
+                Measurement::Used | Measurement::Reacquired => {
+                    measured.confidence = fit.confidence();
+                    measured.measured_cm = Some(p);
+                }
+                Measurement::Rejected => {}
+            }
+        }
+    }
+
+    /// The path search's line of candidates along the line of sight
+    /// through the frame's best position, scored here or, when `deferred`,
+    /// asked for in a [`PathRequest`].
+    fn path_record(
+        &mut self,
+        prediction: &FusedPrediction,
+        measured: &Measured,
+        deferred: bool,
+        i: usize,
+    ) -> (PathRecord, Option<PathRequest>) {
+        let params = self.params;
+        let base = measured.measured_cm.or(measured.fit_cm).unwrap_or(measured.prediction_cm);
+        let along = line_of_sight(&self.camera, base);
+        let steps = (params.path_reach_cm / params.path_spacing_cm).round() as i32;
+        let candidates_cm: Vec<DVec2> =
+            (-steps..=steps).map(|k| base + along * (k as f64 * params.path_spacing_cm)).collect();
+        // Where the fit is not believable the suit's steps carry the frame
+        // (all candidates alike).
+        let pending = measured.believable && deferred;
+        let mut request = None;
+        let energies_px = if !measured.believable {
+            vec![f64::NAN; candidates_cm.len()]
+        } else if pending {
+            request = Some(PathRequest {
+                frame: i,
+                prediction_cm: measured.prediction_cm,
+                truncate_px: prediction.truncate_px,
+                candidates_cm: candidates_cm.clone(),
+            });
+            Vec::new()
+        } else {
+            candidates_cm.iter().map(|&p| self.energy(p)).collect()
+        };
+        let record = PathRecord {
+            pending,
+            frame: PathFrame {
+                candidates_cm,
+                energies_px,
+                expected_step_cm: prediction.before_cm.map_or(DVec2::ZERO, |b| measured.prediction_cm - b),
+                step_sigma_cm: prediction.step_sigma_cm,
+            },
+            inertial_step_cm: prediction.step_cm,
+            across_variance_cm2: measured
+                .across_variance_cm2
+                .unwrap_or(MAX_MEASUREMENT_SIGMA_CM * MAX_MEASUREMENT_SIGMA_CM),
+            along,
+        };
+        (record, request)
+    }
+}
+
+/// Scores [`PathRequest`]s apart from the tracker, from the same frames:
+/// what the tracker would have computed, to the last bit. And, for
+/// evaluations, the camera's best near a known truth.
+pub struct PathScorer {
+    setup: TrackSetup,
+    params: FusedParams,
+    scorer: Scorer,
+}
+
+impl PathScorer {
+    /// Scores with the fused tracker's `params`.
+    pub fn new(setup: TrackSetup, params: FusedParams) -> PathScorer {
+        PathScorer { scorer: Scorer::new(&setup.camera), params, setup }
+    }
+
+    /// The fused energy (px) at each of `request`'s candidates in `frame`,
+    /// video frame `request.frame`; NaN where the body is not in the image.
+    pub fn energies(&mut self, request: &PathRequest, frame: &GreyImage) -> Result<Vec<f64>, Error> {
+        let label = format!("video frame {}", request.frame);
+        let setup = &self.setup;
+        setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
+        let Some(body) = setup.posed_body(request.frame)? else {
+            return Err(Error::whole(&label, "no pose in the BVH here: no path to score"));
+        };
+        let features = setup.features(frame, request.truncate_px, &label)?;
+        let mut scoring =
+            FrameScoring::new(setup, &self.params, &mut self.scorer, &body, &features, request.prediction_cm);
+        Ok(request.candidates_cm.iter().map(|&p| scoring.energy(p)).collect())
+    }
+
+    /// For evaluations only (a tracker knows no `around_cm`): the least of
+    /// the fused energy in video frame `i`, tried every 2 cm along the
+    /// camera's line of sight through `around_cm` within `reach_cm` of it,
+    /// and every 1 cm across within 8 cm — how close the camera alone can
+    /// place the body in that frame when the truth is known. `None` where
+    /// the BVH has no pose or the body is nowhere in the image.
+    pub fn camera_oracle(
+        &mut self,
+        frame: &GreyImage,
+        i: usize,
+        around_cm: DVec2,
+        reach_cm: f64,
+    ) -> Result<Option<DVec2>, Error> {
+        let label = format!("video frame {i}");
+        let setup = &self.setup;
+        setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
+        let Some(body) = setup.posed_body(i)? else { return Ok(None) };
+        let features = setup.features(frame, setup.pipeline.truncate_px, &label)?;
+        let mut scoring =
+            FrameScoring::new(setup, &self.params, &mut self.scorer, &body, &features, around_cm);
+        let along = line_of_sight(&setup.camera, around_cm);
+        let steps = (reach_cm / 2.0).ceil() as i32;
+        let mut best: Option<(DVec2, f64)> = None;
+        for a in -steps..=steps {
+            for b in -8..=8 {
+                let p = around_cm + along * (2.0 * a as f64) + along.perp() * b as f64;
+                let e = scoring.energy(p);
+                if e.is_finite() && best.is_none_or(|(_, least)| e < least) {
+                    best = Some((p, e));
+                }
+            }
+        }
+        Ok(best.map(|(p, _)| p))
+    }
+}
+
+/// Where to look for the body in the first frame: the floor below the
+/// foreground's lowest pixels (the feet stand on the floor), or the
+/// world's origin (where the board is, and where the paper has the actor
+/// start) when there is no foreground, whichever fits better.
+fn first_guess(camera: &Camera, scorer: &mut Scorer, features: &Features, body: &PosedBody) -> DVec2 {
+    let mask = &features.foreground;
+    let (w, h) = (mask.width_px as usize, mask.height_px as usize);
+    let mut guesses = vec![DVec2::ZERO];
+    if let Some(bottom) =
+        (0..h).rev().find(|&y| mask.on[y * w..(y + 1) * w].iter().filter(|&&o| o).count() >= 3)
+    {
+        let row = &mask.on[bottom * w..(bottom + 1) * w];
+        let xs: Vec<usize> = (0..w).filter(|&x| row[x]).collect();
+        let x = xs[xs.len() / 2] as f64;
+        if let Some(floor) = camera.floor_point(DVec2::new(x, bottom as f64)) {
+            guesses.push(DVec2::new(floor.x, floor.z));
+        }
+    }
+    let terms = FrameTerms::new(&features.edge_distance, &features.outside_distance, mask, 8.0);
+    guesses
+        .into_iter()
+        .map(|g| (g, scorer.plain_fit(&terms, body, g).map_or(f64::INFINITY, |f| f.fused_energy(1.0, 0.0))))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map_or(DVec2::ZERO, |(g, _)| g)
+}
+
+/// The fused energy of `body` at `floor_cm`; NaN where it is not in the image.
+fn fused_energy(
+    scorer: &mut Scorer,
+    terms: &FrameTerms,
+    body: &BandedBody,
+    floor_cm: DVec2,
+    params: &FusedParams,
+) -> f64 {
+    scorer
+        .banded_fit(terms, body, floor_cm)
+        .map_or(f64::NAN, |f| f.fused_energy(params.mask_weight, params.uncovered_weight))
+}
+
+/// `body` of `shape` with its band, `depth_cm` from `camera`; no band
+/// (0 px) when the band term is off.
+fn banded_body(
+    shape: &BodyShape,
+    body: &PosedBody,
+    camera: &Camera,
+    params: &FusedParams,
+    depth_cm: f64,
+) -> BandedBody {
+    BandedBody {
+        body: body.clone(),
+        widened: shape.widened(body, params.band_cm),
+        band_px: if params.uncovered_weight > 0.0 {
+            camera.intrinsics.fx_px * params.band_cm / depth_cm
+        } else {
+            0.0
+        },
+    }
+}
+
+/// The fused energy's image terms of a frame for a body standing near
+/// `near_cm`, the contour's distances truncated at `params.truncation_cm`
+/// at the body's distance; and that distance (cm, the camera's depth of
+/// the point 1 m above `near_cm`, at least 50 cm).
+pub fn fused_terms<'a>(
+    camera: &Camera,
+    params: &FusedParams,
+    features: &'a Features,
+    near_cm: DVec2,
+) -> (FrameTerms<'a>, f64) {
+    let (truncation_px, depth_cm) = fused_truncation_px(camera, params, near_cm);
+    let terms = FrameTerms::new(
+        &features.edge_distance,
+        &features.outside_distance,
+        &features.foreground,
+        truncation_px,
+    );
+    (terms, depth_cm)
+}
+
+/// The truncation (px, at least 1) of the fused energy's distances for a
+/// body standing near `near_cm`: `params.truncation_cm` at the body's
+/// distance; and that distance (cm, the camera's depth of the point 1 m
+/// above `near_cm`, at least 50 cm).
+fn fused_truncation_px(camera: &Camera, params: &FusedParams, near_cm: DVec2) -> (f32, f64) {
+    let depth_cm = camera.point_in_camera(DVec3::new(near_cm.x, 100.0, near_cm.y)).z.max(50.0);
+    let truncation_px = (camera.intrinsics.fx_px * params.truncation_cm / depth_cm) as f32;
+    (truncation_px.max(1.0), depth_cm)
+}
+
+/// The direction on the floor (x, z) of the camera's line of sight through
+/// `floor_cm`: from below the camera's centre towards it.
+fn line_of_sight(camera: &Camera, floor_cm: DVec2) -> DVec2 {
+    let centre = camera.center_in_world();
+    (floor_cm - DVec2::new(centre.x, centre.z)).normalize_or(DVec2::X)
+}
+
+/// After this many frames of rejected fits the filter trusts the camera
+/// again ([`FusedParams::reacquire_after_s`] at `dt_s` a frame, at least 1).
+fn reacquire_after_frames(params: &FusedParams, dt_s: f64) -> usize {
+    ((params.reacquire_after_s / dt_s).round() as usize).max(1)
+}
+
+/// How far either side of a fit (cm) the energy is probed for its curvature.
+const CURVATURE_STEP_CM: f64 = 10.0;
+
+/// How uncertain a fit's energy is (px): the mean truncated distance over a
+/// few hundred contour pixels, each good to a pixel or so, but neighbours
+/// err together.
+const ENERGY_NOISE_PX: f64 = 0.1;
+
+/// A measurement is never taken as more uncertain than this (cm, one σ):
+/// past it, it might as well not be.
+const MAX_MEASUREMENT_SIGMA_CM: f64 = 300.0;
+
+/// The square root of the covariance's larger eigenvalue (cm).
+fn largest_sigma_cm(covariance: DMat2) -> f64 {
+    let (a, b, d) = (covariance.x_axis.x, covariance.y_axis.x, covariance.y_axis.y);
+    let mean = 0.5 * (a + d);
+    let spread = (0.25 * (a - d) * (a - d) + b * b).sqrt();
+    (mean + spread).max(0.0).sqrt()
+}
+
+/// The covariance (cm²) of a floor position measured to `sigma_px` in the
+/// image: `σ² (Jᵀ J)⁻¹`, with `Jᵀ J` the mean over the body's spheres of
+/// how their pixels move per cm of floor shift (finite differences through
+/// the lens). Along the camera's line of sight the pixels barely move, so
+/// that direction comes out uncertain, as it is. `None` when the body is
+/// not in front of the camera.
+fn measurement_covariance(
+    camera: &Camera,
+    body: &PosedBody,
+    floor_cm: DVec2,
+    sigma_px: f64,
+) -> Option<DMat2> {
+    let shift = DVec3::new(floor_cm.x, 0.0, floor_cm.y);
+    let mut normal = DMat2::ZERO;
+    let mut count = 0usize;
+    for sphere in &body.spheres {
+        let at = sphere.centre_cm + shift;
+        let (Some(p), Some(px), Some(pz)) = (
+            camera.point_in_image(at),
+            camera.point_in_image(at + DVec3::X),
+            camera.point_in_image(at + DVec3::Z),
+        ) else {
+            continue;
+        };
+        let j = DMat2::from_cols(px - p, pz - p);
+        normal += j.transpose() * j;
+        count += 1;
+    }
+    if count == 0 {
+        return None;
+    }
+    let normal = normal * (1.0 / count as f64);
+    if normal.determinant().abs() < 1e-12 {
+        return None;
+    }
+    Some(normal.inverse() * (sigma_px * sigma_px))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_covariance_of_a_camera_s_measurement_is_long_along_its_line_of_sight() {
+        // A camera on the -Z side looking along +Z at a body 5 m away: a
+        // floor shift across the view (x) moves the pixels far more than one
+        // along it (z).
+        let camera = Camera {
+            image_size: crate::camera::ImageSize { width_px: 640, height_px: 480 },
+            intrinsics: crate::camera::Intrinsics { fx_px: 500.0, fy_px: 500.0, cx_px: 319.5, cy_px: 239.5 },
+            distortion: crate::camera::Distortion::default(),
+            camera_from_world: glam::DAffine3::from_mat3_translation(
+                glam::DMat3::from_cols(DVec3::X, DVec3::NEG_Y, DVec3::Z),
+                DVec3::new(0.0, 150.0, -500.0),
+            )
+            .inverse(),
+        };
+        let body = PosedBody {
+            spheres: [0.0, 50.0, 100.0, 150.0]
+                .map(|y| crate::body::shape::Sphere { centre_cm: DVec3::new(0.0, y, 0.0), radius_cm: 10.0 })
+                .to_vec(),
+            cones: vec![(0, 1), (1, 2), (2, 3)],
+        };
+        let covariance = measurement_covariance(&camera, &body, DVec2::ZERO, 1.0).unwrap();
+        let (across, along) = (covariance.x_axis.x, covariance.y_axis.y);
+        assert!(along > 10.0 * across, "across {across} cm², along {along} cm²");
+        assert!((largest_sigma_cm(covariance) - along.sqrt()).abs() < 1e-6 * along.sqrt());
+    }
+}

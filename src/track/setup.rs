@@ -1,0 +1,60 @@
+//! What a tracker needs of a take besides its frames, whichever tracker it
+//! is: the camera, the suit's motion, the body model, the video's timing
+//! and the empty room; and the one way a video frame becomes the features
+//! the trackers match a body against.
+
+use glam::{DVec2, DVec3};
+
+use crate::body::shape::{BodyShape, PosedBody};
+use crate::camera::Camera;
+use crate::error::Error;
+use crate::image::GreyImage;
+use crate::image::pipeline::{Features, PipelineParams, features};
+use crate::track::suit_motion::{SuitMotion, VideoTiming};
+
+/// What the tracker needs besides the frames.
+#[derive(Clone, Debug)]
+pub struct TrackSetup {
+    pub camera: Camera,
+    pub suit: SuitMotion,
+    pub shape: BodyShape,
+    pub timing: VideoTiming,
+    pub background: GreyImage,
+    pub pipeline: PipelineParams,
+}
+
+impl TrackSetup {
+    /// The body model in the suit's pose at video frame `i` (its time
+    /// through `timing`), standing at the floor's origin; `None` where the
+    /// BVH has no pose.
+    pub fn posed_body(&self, i: usize) -> Result<Option<PosedBody>, Error> {
+        let instant = self.suit.instant(self.timing.bvh_time_s(i));
+        self.suit.body_at(instant).map(|body_cm| self.shape.pose(&body_cm, DVec3::ZERO)).transpose()
+    }
+
+    /// `frame`'s features against the background, its distance transforms
+    /// capped at `truncate_px` (`None`: exact everywhere); an error naming
+    /// `label` when its size is not the camera's. Every tracker computes a
+    /// frame's features here, once, and hands them down.
+    pub fn features(
+        &self,
+        frame: &GreyImage,
+        truncate_px: Option<f32>,
+        label: &str,
+    ) -> Result<Features, Error> {
+        self.camera.check_image_size(frame.width_px, frame.height_px, label)?;
+        let params = PipelineParams { truncate_px, ..self.pipeline };
+        features(frame, &self.background, &params, label)
+    }
+}
+
+/// What a tracker makes of one video frame, before smoothing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameEstimate {
+    /// Where the hips are on the floor (x, z, cm).
+    pub floor_cm: DVec2,
+    /// How well the camera saw the body, 0 to 1 (0 where it was not used).
+    pub confidence: f64,
+    /// The camera's own measurement, where one was used.
+    pub measured_cm: Option<DVec2>,
+}
