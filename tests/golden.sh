@@ -47,7 +47,7 @@ build_base() {
 build_base
 cargo build --release --quiet --bin embusen
 BASE_BIN="$BASE_BUILD/base-target/release/embusen"
-HEAD_BIN="$ROOT/target/release/embusen"
+HEAD_BIN="${CARGO_TARGET_DIR:-$ROOT/target}/release/embusen"
 
 # A BVH that has an accelerometer file beside it, once more without it.
 NOACCEL="$WORK/inputs"

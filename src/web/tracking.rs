@@ -17,9 +17,11 @@ use crate::image::pipeline::Features;
 use crate::io::container::{EncodedVideo, demux, nominal_fps};
 use crate::io::image_file::grey_to_png;
 use crate::io::recording::Recording;
-use crate::track::paper::PaperTrackParams;
+use crate::track::fused::FusedParams;
+use crate::track::path::PathRequest;
+use crate::track::riecicky::RiecickyParams;
 use crate::track::take::body_shape_of;
-use crate::track::tracker::{FusedParams, PathRequest, TrackMethod};
+use crate::track::tracker::TrackMethod;
 use glam::DVec2;
 use wasm_bindgen::Clamped;
 
@@ -60,7 +62,7 @@ impl CameraJob {
     ) -> Result<CameraJob, JsError> {
         let method = match method {
             "fused" => TrackMethod::Fused(FusedParams::default()),
-            "paper" => TrackMethod::Paper(PaperTrackParams::default()),
+            "paper" => TrackMethod::Paper(RiecickyParams::default()),
             other => return Err(JsError::new(&format!("method {other:?}: \"fused\" or \"paper\""))),
         };
         let job = TrackingJob::open(
