@@ -8,7 +8,7 @@ import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { gzipSync } from "node:zlib";
 import {
-  startServer, launchBrowser, openApp, waitReady, countDrawnPixels, DATA, DIST, HAVE_DATA, ROOT, SCREENSHOTS,
+  startServer, launchBrowser, openApp, waitReady, countDrawnPixels, CLI, DATA, DIST, HAVE_DATA, SCREENSHOTS,
 } from "./harness.mjs";
 
 let server;
@@ -140,7 +140,7 @@ test("heian_nidan.bvh opens through the file input and exports what the CLI writ
     assert.equal(download.suggestedFilename(), "heian_nidan.embusen.bvh");
     const exported = readFileSync(await download.path(), "utf8");
     const cliOut = join(dir, `${name}.bvh`);
-    execFileSync(join(ROOT, "target/release/embusen"), ["translate", file, ...cliArgs, "-o", cliOut]);
+    execFileSync(CLI, ["translate", file, ...cliArgs, "-o", cliOut]);
     if (exported !== readFileSync(cliOut, "utf8")) writeFileSync(join(SCREENSHOTS, `exported-${name}.bvh`), exported);
     assert.ok(exported === readFileSync(cliOut, "utf8"), `the exported BVH equals \`embusen translate ${cliArgs.join(" ")}\`'s (diff ${cliOut} ${SCREENSHOTS}/exported-${name}.bvh)`);
   };
