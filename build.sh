@@ -84,7 +84,7 @@ cmd_build() {
     build_wasm web-player dist/pkg
     build_wasm web-camera dist/pkg-camera
     build_wasm web-board dist/pkg-board
-    cp www/*.html www/*.js www/*.css dist/
+    cp -r www/. dist/
     echo "built dist/ ($(du -sh dist | cut -f1))" >&2
 }
 
