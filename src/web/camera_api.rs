@@ -352,14 +352,6 @@ pub struct FloorCorners {
     pub focal_px: Option<f64>,
 }
 
-impl FloorCorners {
-    /// The clicks from the page's object (unknown fields refused).
-    pub fn from_js(value: Ts<FloorCorners>) -> Result<FloorCorners, String> {
-        let value = value.js_value();
-        read(value, "the floor corners")
-    }
-}
-
 /// A camera calibrated here (from clicks or a board) and how well.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Tsify)]
 #[tsify(missing_as_null)]

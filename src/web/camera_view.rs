@@ -56,7 +56,7 @@ pub struct PixelLine {
 /// --floor-corners` makes it; the error says what is wrong with the clicks.
 #[wasm_bindgen]
 pub fn calibrate_floor_corners(clicks: Ts<FloorCorners>) -> Result<Ts<CameraFit>, JsError> {
-    let c = FloorCorners::from_js(clicks).map_err(js_error)?;
+    let c: FloorCorners = read(clicks.js_value(), "the floor corners").map_err(js_error)?;
     let [a, b, d, e] = c.corners[..] else {
         return Err(JsError::new(&format!("four corners, not {}", c.corners.len())));
     };
