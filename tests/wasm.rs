@@ -235,9 +235,18 @@ fn the_camera_boundary_refuses_unknown_fields_and_values() {
         )
     };
     let video = r#"{"name": "v.mp4", "width_px": 2, "height_px": 2, "fps": 30, "frame_count": 1}"#;
+    // Bytes cross as a Uint8Array (JSON has none: put in after parsing).
     let open = |json: String| {
-        CameraJob::new(Ts::new_unchecked(js(&json))).err().map(error_message).unwrap_or_default()
+        let options = js(&json);
+        for file in ["recording", "camera", "background"] {
+            let file = js_sys::Reflect::get(&options, &file.into()).unwrap();
+            js_sys::Reflect::set(&file, &"bytes".into(), &js_sys::Uint8Array::new_with_length(0)).unwrap();
+        }
+        CameraJob::new(Ts::new_unchecked(options)).err().map(error_message).unwrap_or_default()
     };
+    assert!(
+        open(take(video, "fused").replace("\"offset_s\"", "\"offset\"")).contains("unknown field `offset`")
+    );
     assert!(open(take(video, "kalman")).contains("kalman"), "{}", open(take(video, "kalman")));
     let typo = video.replace("\"fps\"", "\"fsp\"");
     assert!(
