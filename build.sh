@@ -11,6 +11,8 @@ cd "$(dirname "$0")"
 
 PORT="${PORT:-8765}"
 WASM_TARGET=wasm32-unknown-unknown
+# Where cargo builds: its own default, or CARGO_TARGET_DIR when set.
+TARGET_DIR="${CARGO_TARGET_DIR:-target}"
 
 # --- installing what is missing --------------------------------------------
 
@@ -64,7 +66,7 @@ ensure_ffmpeg() {
 build_wasm() {
     cargo build --lib --release --target "$WASM_TARGET" --no-default-features --features "$1"
     mkdir -p "$2"
-    wasm-bindgen --target web --out-dir "$2" "target/$WASM_TARGET/release/embusen.wasm"
+    wasm-bindgen --target web --out-dir "$2" "$TARGET_DIR/$WASM_TARGET/release/embusen.wasm"
     # npm's binaryen: Debian's wasm-opt (108) breaks this module.
     node_modules/.bin/wasm-opt -O3 --enable-simd --enable-bulk-memory --enable-nontrapping-float-to-int \
         --enable-sign-ext --enable-mutable-globals --enable-reference-types --enable-multivalue \
@@ -82,7 +84,7 @@ cmd_build() {
     build_wasm web-player dist/pkg
     build_wasm web-camera dist/pkg-camera
     build_wasm web-board dist/pkg-board
-    cp www/*.html www/*.js www/*.css dist/
+    cp -r www/. dist/
     echo "built dist/ ($(du -sh dist | cut -f1))" >&2
 }
 

@@ -221,3 +221,43 @@ fn without_a_recording_results_are_errors() {
     assert!(player.export_recording().is_err());
     assert!(player.settings().is_err());
 }
+
+/// The camera module's boundary refuses what it does not know: an unknown
+/// field (at any depth), an unknown method, a bad corner count, each named.
+#[wasm_bindgen_test]
+fn the_camera_boundary_refuses_unknown_fields_and_values() {
+    use embusen::web::camera_view::calibrate_floor_corners;
+    use embusen::web::tracking::CameraJob;
+    let corners = r#"{"width_px": 640, "height_px": 480, "corners": [{"x_px": 1, "y_px": 2}], "width_cm": 200,
+        "depth_cm": 150, "focal_px": null"#;
+    let refused =
+        |json: String| error_message(calibrate_floor_corners(Ts::new_unchecked(js(&json))).unwrap_err());
+    assert!(refused(format!("{corners}, \"focal\": 3}}")).contains("unknown field `focal`"));
+    assert!(refused(format!("{corners}}}")).contains("four corners, not 1"));
+    let file = r#"{"name": "a", "bytes": []}"#;
+    let take = |video: &str, method: &str| {
+        format!(
+            r#"{{"recording": {file}, "camera": {file}, "background": {file}, "video": {video}, "method": "{method}", "offset_s": 0}}"#
+        )
+    };
+    let video = r#"{"name": "v.mp4", "width_px": 2, "height_px": 2, "fps": 30, "frame_count": 1}"#;
+    // Bytes cross as a Uint8Array (JSON has none: put in after parsing).
+    let open = |json: String| {
+        let options = js(&json);
+        for file in ["recording", "camera", "background"] {
+            let file = js_sys::Reflect::get(&options, &file.into()).unwrap();
+            js_sys::Reflect::set(&file, &"bytes".into(), &js_sys::Uint8Array::new_with_length(0)).unwrap();
+        }
+        CameraJob::new(Ts::new_unchecked(options)).err().map(error_message).unwrap_or_default()
+    };
+    assert!(
+        open(take(video, "fused").replace("\"offset_s\"", "\"offset\"")).contains("unknown field `offset`")
+    );
+    assert!(open(take(video, "kalman")).contains("kalman"), "{}", open(take(video, "kalman")));
+    let typo = video.replace("\"fps\"", "\"fsp\"");
+    assert!(
+        open(take(&typo, "fused")).contains("the take's video: unknown field `fsp`"),
+        "{}",
+        open(take(&typo, "fused"))
+    );
+}

@@ -58,7 +58,7 @@ export async function measureFps(video) {
   /** @type {number[]} */
   const times = [];
   await new Promise((resolve) => {
-    const take = (/** @type {number} */ _now, /** @type {any} */ meta) => {
+    const take = (/** @type {number} */ _now, /** @type {VideoFrameCallbackMetadata} */ meta) => {
       times.push(meta.mediaTime);
       if (times.length >= 16 || video.ended) resolve(null);
       else video.requestVideoFrameCallback(take);
@@ -103,7 +103,7 @@ export async function frameAt(video, index, fps) {
  * Seeks to `time_s` and resolves with the presented frame's metadata.
  * @param {HTMLVideoElement} video
  * @param {number} timeS
- * @returns {Promise<any>}
+ * @returns {Promise<VideoFrameCallbackMetadata>}
  */
 function presentedAt(video, timeS) {
   return new Promise((resolve, reject) => {

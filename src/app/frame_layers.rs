@@ -4,6 +4,8 @@
 //! exactly as the tracker makes them, painted as RGBA pictures of the
 //! frame's size (row by row from the top, straight alpha).
 
+use crate::app::theme;
+use crate::app::theme::Rgba;
 use crate::error::Error;
 use crate::image::GreyImage;
 use crate::image::pipeline::{Features, PipelineParams, features};
@@ -22,26 +24,16 @@ pub enum Layer {
     Distance,
 }
 
-impl Layer {
-    /// `"mask"`, `"edges"` or `"distance"`; an error naming the others.
-    pub fn from_name(name: &str) -> Result<Layer, Error> {
-        match name {
-            "mask" => Ok(Layer::Mask),
-            "edges" => Ok(Layer::Edges),
-            "distance" => Ok(Layer::Distance),
-            other => {
-                Err(Error::whole("the layer", format!("{other:?}: \"mask\", \"edges\" or \"distance\"")))
-            }
-        }
-    }
-}
-
 /// The distance (px) at which the distance layer turns black: about a
 /// limb's width at a few metres, where an edge stops explaining a pixel.
 pub const DISTANCE_SHOWN_PX: f32 = 32.0;
 
-const MASK_RGBA: [u8; 4] = [56, 189, 248, 120];
-const EDGE_RGBA: [u8; 4] = [255, 90, 90, 255];
+const MASK_RGBA: [u8; 4] = rgba(theme::FOREGROUND_MASK);
+const EDGE_RGBA: [u8; 4] = rgba(theme::EDGES);
+
+const fn rgba(c: Rgba) -> [u8; 4] {
+    [c.0, c.1, c.2, c.3]
+}
 const DISTANCE_ALPHA: u8 = 220;
 
 /// A take's background, ready to make the layers of its frames.
@@ -114,11 +106,5 @@ mod tests {
         assert_eq!(layer_rgba(&features, Layer::Mask), [[0; 4], MASK_RGBA].concat());
         assert_eq!(layer_rgba(&features, Layer::Edges), [EDGE_RGBA, [0; 4]].concat());
         assert_eq!(layer_rgba(&features, Layer::Distance), [255, 255, 255, 220, 128, 128, 128, 220]);
-        assert!(
-            Layer::from_name("depth")
-                .unwrap_err()
-                .to_string()
-                .contains("\"mask\", \"edges\" or \"distance\"")
-        );
     }
 }

@@ -83,6 +83,31 @@ pub const FLIGHT: Rgba = Rgba(164, 124, 255, 255);
 /// Both feet on the floor (the contact method's double support).
 pub const DOUBLE_SUPPORT: Rgba = Rgba(226, 221, 204, 255);
 
+// --- The camera panel ------------------------------------------------------------
+
+/// Behind the camera panel's plots (the top view, the series, the paper's
+/// candidates).
+pub const CAMERA_PLOT_BACKGROUND: Rgba = Rgba(30, 33, 38, 255);
+/// The frame around each series of the camera panel's plot.
+pub const CAMERA_PLOT_FRAME: Rgba = Rgba(58, 63, 71, 255);
+/// The camera's confidence per frame; a candidate of the lowest energy; the
+/// board's corners found over the video.
+pub const CONFIDENCE: Rgba = Rgba(74, 222, 128, 255);
+/// The track's error against the truth; a candidate of the highest energy.
+pub const TRACK_ERROR: Rgba = Rgba(248, 113, 113, 255);
+/// A candidate where the body could not be placed (no finite energy).
+pub const NO_ENERGY: Rgba = Rgba(85, 85, 85, 255);
+/// The floor grid over the video: the corrected hips' yellow, see-through.
+pub const VIDEO_FLOOR_GRID: Rgba = CORRECTED.with_alpha(140);
+/// The body's outline over the video, and (see-through) the foreground mask.
+pub const BODY_OUTLINE: Rgba = Rgba(56, 189, 248, 255);
+/// The foreground mask over the video.
+pub const FOREGROUND_MASK: Rgba = BODY_OUTLINE.with_alpha(120);
+/// Canny's edges over the video.
+pub const EDGES: Rgba = Rgba(255, 90, 90, 255);
+/// The floor corners clicked on the video.
+pub const CLICKED_CORNER: Rgba = Rgba(244, 114, 182, 255);
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,12 +3,10 @@
 //! only turns shapes into canvas calls, so it stays too thin to need tests of
 //! its own.
 
-use std::cell::Cell;
-
 use wasm_bindgen::JsValue;
 use web_sys::CanvasRenderingContext2d;
 
-use crate::app::plot::{Align, DASH_PX, FONT_FAMILY, Figure, Shape, TextMeasure};
+use crate::app::plot::{Align, DASH_PX, FONT_FAMILY, Figure, Shape};
 
 /// The canvas font of text at `size_px`.
 fn font(size_px: f32) -> String {
@@ -17,10 +15,12 @@ fn font(size_px: f32) -> String {
 
 /// Text widths as [`paint`] draws text on `ctx`: the returned function gives
 /// the width in pixels of `text` at `size_px`, from `measureText`, for
-/// [`TextMeasure::With`]. It sets `ctx`'s font; where the canvas cannot
-/// measure, it falls back to [`TextMeasure::Estimate`].
+/// [`TextMeasure::With`](crate::app::plot::TextMeasure::With). It sets `ctx`'s font; where the canvas cannot
+/// measure, it falls back to
+/// [`TextMeasure::Estimate`](crate::app::plot::TextMeasure::Estimate).
+#[cfg(feature = "web-player")]
 pub fn measure_text(ctx: &CanvasRenderingContext2d) -> impl Fn(&str, f32) -> f32 + '_ {
-    let font_size_px = Cell::new(f32::NAN);
+    let font_size_px = std::cell::Cell::new(f32::NAN);
     move |text: &str, size_px: f32| {
         // Setting the font parses CSS; the layout measures runs of one size.
         if size_px != font_size_px.get() {
@@ -29,7 +29,7 @@ pub fn measure_text(ctx: &CanvasRenderingContext2d) -> impl Fn(&str, f32) -> f32
         }
         match ctx.measure_text(text) {
             Ok(metrics) => metrics.width() as f32,
-            Err(_) => TextMeasure::Estimate.width_px(text, size_px),
+            Err(_) => crate::app::plot::TextMeasure::Estimate.width_px(text, size_px),
         }
     }
 }

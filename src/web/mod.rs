@@ -1,24 +1,35 @@
-//! The browser side, two wasm modules built from this folder (`build.sh`):
-//! the **player** (feature `web-player`, `dist/pkg/`): a `Player` that
-//! JavaScript creates over two canvases (the 3D view and the plots) and
-//! drives from its animation loop. It holds a [`Session`](crate::app::session::Session)
-//! and a playback [`Clock`](crate::app::clock::Clock) and only translates
-//! between the page and the core: parsing, kinematics, the method, plot
-//! layout and rendering all happen in Rust. What crosses to the page is
-//! typed ([`api`]). And the **camera tracker** (feature `web-camera`,
-//! `dist/pkg-camera/`): the `CameraJob` a Web Worker runs and the floor
-//! grid over the video ([`tracking`]), fetched only when a take is opened;
-//! and the **board** module (feature `web-board`, `dist/pkg-board/`): the
-//! ChArUco detector and the calibration from a board still
-//! ([`calibration`]), fetched only when a board is used. So the player's
-//! download stays small. Built only for wasm32; may import everything below it, and
-//! nothing of the core imports it.
+//! The browser side, three wasm modules built from this folder (`build.sh`),
+//! each behind its feature so that a page downloads only what it uses. The
+//! **player** (feature `web-player`, `dist/pkg/`), which every page loads: a
+//! `Player` that JavaScript creates over two canvases (the 3D view and the
+//! plots) and drives from its animation loop. It holds a
+//! [`Session`](crate::app::session::Session) and a playback
+//! [`Clock`](crate::app::clock::Clock) and only translates between the page
+//! and the core: parsing, kinematics, the method, plot layout and rendering
+//! all happen in Rust; what crosses to the page is typed ([`api`]). The
+//! **camera tracker** (feature `web-camera`, `dist/pkg-camera/`), fetched
+//! only with a take to track: the `CameraJob` a Web Worker runs
+//! ([`tracking`]), the video's frames and stills ([`video`]), the camera
+//! parsed once for the overlays and the 3D view, the four clicked floor
+//! corners, the tracker's view of a frame ([`camera_view`]), the panel's
+//! plots and overlay colours ([`camera_plots`]). The **board**
+//! module (feature `web-board`, `dist/pkg-board/`), fetched only when a
+//! board is used: the ChArUco detector and the calibration from a board
+//! still ([`calibration`]). The camera and board modules' boundary is typed
+//! as the player's ([`camera_api`]). Built only for wasm32; may import
+//! everything below it, and nothing of the core imports it.
 
 #[cfg(feature = "web-player")]
 pub mod api;
 #[cfg(feature = "web-board")]
 pub mod calibration;
-#[cfg(feature = "web-player")]
+#[cfg(any(feature = "web-camera", feature = "web-board"))]
+pub mod camera_api;
+#[cfg(feature = "web-camera")]
+pub mod camera_plots;
+#[cfg(feature = "web-camera")]
+pub mod camera_view;
+#[cfg(any(feature = "web-player", feature = "web-camera"))]
 mod canvas2d;
 mod panic;
 #[cfg(feature = "web-player")]
@@ -27,6 +38,8 @@ mod player;
 mod scene;
 #[cfg(feature = "web-camera")]
 pub mod tracking;
+#[cfg(feature = "web-camera")]
+pub mod video;
 
 use wasm_bindgen::prelude::*;
 

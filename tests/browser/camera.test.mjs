@@ -11,7 +11,7 @@ import { mkdtempSync, readFileSync, writeFileSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { mkdirSync } from "node:fs";
-import { startServer, launchBrowser, DATA, HAVE_DATA, ROOT, SCREENSHOTS } from "./harness.mjs";
+import { startServer, launchBrowser, CLI, DATA, HAVE_DATA, SCREENSHOTS } from "./harness.mjs";
 
 let server;
 let browser;
@@ -53,7 +53,7 @@ after(async () => {
  */
 function trackWalkWithCli(out, extra = [], withBackground = true) {
   const scene = (s) => join(DATA, "optical", `walk${s}`);
-  return execFileSync(join(ROOT, "target/release/embusen"), [
+  return execFileSync(CLI, [
     "track", scene(".mp4"), "--bvh", scene(".suit.bvh"), "--camera", scene(".camera.json"),
     ...(withBackground ? ["--background", scene(".background.png")] : []), ...extra, "-o", out,
   ], { stdio: "pipe" }).toString();
@@ -273,7 +273,7 @@ test("four floor corners clicked on the video make embusen calibrate --floor-cor
   assert.ok(off < 20, `the camera centre ${off.toFixed(1)} cm from the true one`);
   // The CLI, given the same clicks, writes the same camera.json.
   const out = join(scratch, "corners.camera.json");
-  execFileSync(join(ROOT, "target/release/embusen"), [
+  execFileSync(CLI, [
     "calibrate", "--floor-corners", ...fit.cornersPx.reduce((acc, v, k) => (k % 2 ? (acc[acc.length - 1] += `,${v}`, acc) : [...acc, String(v)]), []),
     "--rectangle-cm", "150x100", "--image-size", "640x480", "-o", out,
   ], { stdio: "pipe" });

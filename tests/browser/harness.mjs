@@ -13,6 +13,8 @@ export const DIST = join(ROOT, "dist");
 export const DATA = resolve(ROOT, "../shared/data");
 export const HAVE_DATA = existsSync(DATA);
 export const SCREENSHOTS = join(ROOT, "target", "screenshots");
+/** The CLI `cargo build --release` made, in CARGO_TARGET_DIR when set. */
+export const CLI = join(resolve(ROOT, process.env.CARGO_TARGET_DIR ?? "target"), "release", "embusen");
 
 const TYPES = {
   ".html": "text/html", ".js": "text/javascript", ".mjs": "text/javascript", ".css": "text/css",

@@ -26,8 +26,12 @@
 //! two points per pixel column, and is meant to be painted once into an
 //! offscreen canvas; the cursor ([`draw_cursor`]) is a handful of shapes
 //! drawn over it each frame. Text widths come from a [`TextMeasure`].
+//!
+//! The camera panel's plots (the track from above, the confidence and error
+//! per frame, the paper's candidates) are laid out here too ([`camera`]).
 
 mod axes;
+pub mod camera;
 mod cursor;
 mod data;
 mod decimate;
