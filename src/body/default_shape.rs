@@ -2,16 +2,69 @@
 //! recognised (`proportions`), the trunk's joints placed between the hips
 //! and the neck, end sites on their joints left out, and the spheres the
 //! skeleton has no joint for (the skull, the palm, the fingertips, the toes'
-//! tip) placed beyond their joints; `BodyShape::standard` calls it.
+//! tip) placed beyond their joints: [`BodyShape::standard`] and
+//! [`BodyShape::with_stature`], here beside their builder so that `shape`
+//! (the body's types and posing) needs nothing of this file.
 
 use glam::DVec3;
 
 use crate::body::feet::{above_hips, detect_feet, hips_joint};
+use crate::body::proportions::estimate_stature_cm;
 use crate::body::proportions::{
     COINCIDENT_FRACTION, EXTENT_CHILD_FRACTION, HEAD_JOINT_TO_VERTEX, TOES_TO_TIP, WRIST_TO_FINGERTIP,
     WRIST_TO_PALM, name_key, part_of_name, radius_fraction,
 };
 use crate::body::shape::{Anchor, BodyShape, Part, ShapeSphere};
+use crate::error::Error;
+
+impl BodyShape {
+    /// The default body of a skeleton: radii from anthropometric proportions
+    /// scaled to the stature [`estimate_stature_cm`] finds. `pose_cm` is any
+    /// frame of its global joint positions (bone lengths and, where the
+    /// skeleton has no joint for the head's top or the hand's end, bone
+    /// directions are read from it).
+    pub fn standard(
+        joint_names: &[String],
+        parents: &[Option<usize>],
+        pose_cm: &[DVec3],
+    ) -> Result<BodyShape, Error> {
+        let stature_cm = estimate_stature_cm(joint_names, parents, pose_cm);
+        BodyShape::with_stature(joint_names, parents, pose_cm, stature_cm)
+    }
+
+    /// As [`BodyShape::standard`], for a body of a known stature (cm).
+    pub fn with_stature(
+        joint_names: &[String],
+        parents: &[Option<usize>],
+        pose_cm: &[DVec3],
+        stature_cm: f64,
+    ) -> Result<BodyShape, Error> {
+        let n = joint_names.len();
+        if parents.len() != n || pose_cm.len() != n {
+            return Err(Error::whole(
+                "<body shape>",
+                format!(
+                    "{n} joint names, {} parents and {} positions: they must be as many",
+                    parents.len(),
+                    pose_cm.len()
+                ),
+            ));
+        }
+        if !(stature_cm.is_finite() && stature_cm > 0.0) {
+            return Err(Error::whole(
+                "<body shape>",
+                format!("stature {stature_cm} cm: expected a positive length"),
+            ));
+        }
+        if let Some(bad) = parents.iter().enumerate().find(|(j, p)| p.is_some_and(|p| p >= n || p == *j)) {
+            return Err(Error::whole(
+                "<body shape>",
+                format!("joint {} has parent {:?}: not a joint", bad.0, bad.1),
+            ));
+        }
+        Ok(Builder::new(joint_names, parents, pose_cm, stature_cm).build())
+    }
+}
 
 /// The default body of one skeleton, sphere by sphere.
 pub(super) struct Builder<'a> {

@@ -12,7 +12,6 @@
 
 use glam::DVec3;
 
-use crate::body::default_shape::Builder;
 pub use crate::body::mesh::Mesh;
 pub use crate::body::proportions::{Part, estimate_stature_cm};
 use crate::error::Error;
@@ -66,53 +65,6 @@ pub struct PosedBody {
 }
 
 impl BodyShape {
-    /// The default body of a skeleton: radii from anthropometric proportions
-    /// scaled to the stature [`estimate_stature_cm`] finds. `pose_cm` is any
-    /// frame of its global joint positions (bone lengths and, where the
-    /// skeleton has no joint for the head's top or the hand's end, bone
-    /// directions are read from it).
-    pub fn standard(
-        joint_names: &[String],
-        parents: &[Option<usize>],
-        pose_cm: &[DVec3],
-    ) -> Result<BodyShape, Error> {
-        let stature_cm = estimate_stature_cm(joint_names, parents, pose_cm);
-        BodyShape::with_stature(joint_names, parents, pose_cm, stature_cm)
-    }
-
-    /// As [`BodyShape::standard`], for a body of a known stature (cm).
-    pub fn with_stature(
-        joint_names: &[String],
-        parents: &[Option<usize>],
-        pose_cm: &[DVec3],
-        stature_cm: f64,
-    ) -> Result<BodyShape, Error> {
-        let n = joint_names.len();
-        if parents.len() != n || pose_cm.len() != n {
-            return Err(Error::whole(
-                "<body shape>",
-                format!(
-                    "{n} joint names, {} parents and {} positions: they must be as many",
-                    parents.len(),
-                    pose_cm.len()
-                ),
-            ));
-        }
-        if !(stature_cm.is_finite() && stature_cm > 0.0) {
-            return Err(Error::whole(
-                "<body shape>",
-                format!("stature {stature_cm} cm: expected a positive length"),
-            ));
-        }
-        if let Some(bad) = parents.iter().enumerate().find(|(j, p)| p.is_some_and(|p| p >= n || p == *j)) {
-            return Err(Error::whole(
-                "<body shape>",
-                format!("joint {} has parent {:?}: not a joint", bad.0, bad.1),
-            ));
-        }
-        Ok(Builder::new(joint_names, parents, pose_cm, stature_cm).build())
-    }
-
     /// The sphere centred on `joint`, if it has one.
     pub fn sphere_at(&self, joint: usize) -> Option<usize> {
         self.spheres.iter().position(|s| s.anchor == Anchor::Joint(joint))
