@@ -64,9 +64,9 @@ ensure_ffmpeg() {
 
 # The library for wasm with only the features $1, bound for the page into $2.
 build_wasm() {
-    cargo build --lib --release --target "$WASM_TARGET" --no-default-features --features "$1"
+    cargo build --lib --profile wasm-release --target "$WASM_TARGET" --no-default-features --features "$1"
     mkdir -p "$2"
-    wasm-bindgen --target web --out-dir "$2" "$TARGET_DIR/$WASM_TARGET/release/embusen.wasm"
+    wasm-bindgen --target web --out-dir "$2" "$TARGET_DIR/$WASM_TARGET/wasm-release/embusen.wasm"
     # npm's binaryen: Debian's wasm-opt (108) breaks this module.
     node_modules/.bin/wasm-opt -O3 --enable-simd --enable-bulk-memory --enable-nontrapping-float-to-int \
         --enable-sign-ext --enable-mutable-globals --enable-reference-types --enable-multivalue \

@@ -53,7 +53,6 @@ import init, { Player, options as playerOptions } from "./pkg/embusen.js";
 /**
  * A camera-tracked take of the open recording, as `Player.show_camera_take` takes it.
  * @typedef {object} CameraTakeView
- * @property {string} bodyShapeJson the body model (the camera module's `CameraJob.body_shape_json`)
  * @property {ArrayLike<number>} cameraHipsCm x, y, z per frame of the recording (its coordinates, cm): the camera track's hips
  * @property {ArrayLike<number>} frustumCm the camera: line segments, 6 numbers each (two ends x, y, z, cm; the camera module's `CameraView.frustum_cm`)
  */
@@ -514,9 +513,9 @@ function cameraTakes(player, choices, legendBox, showError, wake) {
     return row;
   }));
   /** @param {CameraTakeView} take */
-  const show = ({ bodyShapeJson, cameraHipsCm, frustumCm }) => {
+  const show = ({ cameraHipsCm, frustumCm }) => {
     try {
-      player.show_camera_take(bodyShapeJson, Float64Array.from(cameraHipsCm), Float64Array.from(frustumCm));
+      player.show_camera_take(Float64Array.from(cameraHipsCm), Float64Array.from(frustumCm));
       legendBox.hidden = false;
       showError("");
       return true;

@@ -6,12 +6,11 @@
 
 use serde::{Deserialize, Serialize};
 use tsify::{Ts, Tsify};
-use wasm_bindgen::{JsCast, JsValue};
+use wasm_bindgen::JsCast;
 
 use crate::app::clock::{self, Clock};
 use crate::app::session;
 use crate::app::theme;
-use crate::body::shape::{Anchor, BodyShape, Part, ShapeSphere};
 use crate::io::recording::FeetChoice;
 use crate::translate::MethodKind;
 use crate::translate::contact::SOLE_DEPTHS_CM;
@@ -276,68 +275,4 @@ pub fn take_legend() -> Vec<LegendEntry> {
     ]
     .map(|(label, color)| LegendEntry { label: label.to_string(), color_css: color.with_alpha(255).to_css() })
     .to_vec()
-}
-
-/// The body model of a camera take from its JSON: a `BodyShape` as the
-/// camera module's `body_shape_json` writes it (serde's form), read field by
-/// field, as serde's generic reader of it would weigh ~6 KB gzipped in the
-/// player's download. The spheres' parts are not read (all
-/// [`Part::Other`]): posing and meshing do not use them. The error names
-/// the entry that is wrong.
-pub fn body_shape_from_json(json: &str) -> Result<BodyShape, String> {
-    let root = js_sys::JSON::parse(json).map_err(|e| {
-        let message = e.dyn_ref::<js_sys::Error>().map(|e| String::from(e.message())).unwrap_or_default();
-        format!("the body shape is not JSON: {message}")
-    })?;
-    let list = |name: &str| -> Result<js_sys::Array, String> {
-        field(&root, name).dyn_into().map_err(|_| format!("the body shape has no list `{name}`"))
-    };
-    let sphere = |s: JsValue| -> Option<ShapeSphere> {
-        let anchor = field(&s, "anchor");
-        let beyond = field(&anchor, "Beyond");
-        let anchor = match index(&anchor, "Joint") {
-            Some(joint) => Anchor::Joint(joint),
-            None => Anchor::Beyond {
-                joint: index(&beyond, "joint")?,
-                from: index(&beyond, "from")?,
-                distance_cm: number(&beyond, "distance_cm")?,
-            },
-        };
-        Some(ShapeSphere { anchor, radius_cm: number(&s, "radius_cm")?, part: Part::Other })
-    };
-    let mut spheres = Vec::new();
-    for (i, s) in list("spheres")?.iter().enumerate() {
-        spheres.push(sphere(s).ok_or_else(|| {
-            format!("the body shape's spheres[{i}] is not {{anchor: {{Joint}} or {{Beyond}}, radius_cm}}")
-        })?);
-    }
-    let mut links = Vec::new();
-    for (i, link) in list("links")?.iter().enumerate() {
-        let link = index(&link, "0").zip(index(&link, "1"));
-        links.push(
-            link.ok_or_else(|| format!("the body shape's links[{i}] is not a pair of sphere indices"))?,
-        );
-    }
-    let (Some(stature_cm), Some(joint_count)) = (number(&root, "stature_cm"), index(&root, "joint_count"))
-    else {
-        return Err("the body shape has no number `stature_cm` or index `joint_count`".to_string());
-    };
-    Ok(BodyShape { spheres, links, stature_cm, joint_count })
-}
-
-/// `value[name]`, or `undefined` when `value` is no object.
-fn field(value: &JsValue, name: &str) -> JsValue {
-    js_sys::Reflect::get(value, &JsValue::from_str(name)).unwrap_or_default()
-}
-
-/// `value[name]` when it is a finite number.
-fn number(value: &JsValue, name: &str) -> Option<f64> {
-    field(value, name).as_f64().filter(|v| v.is_finite())
-}
-
-/// `value[name]` when it is an index: a whole number from 0.
-fn index(value: &JsValue, name: &str) -> Option<usize> {
-    number(value, name)
-        .filter(|v| *v >= 0.0 && v.fract() == 0.0 && *v < f64::from(u32::MAX))
-        .map(|v| v as usize)
 }

@@ -12,6 +12,7 @@ use crate::app::plot::{self, Layout, Stance, TextMeasure};
 use crate::app::session::{Session, Settings};
 use crate::io::recording::{FeetChoice, Recording};
 use crate::io::table::Accelerations;
+use crate::track::take::body_shape_of;
 use crate::web::api::{Export, FootNames, Ghost, Info, Options, PlotPanel, SoleDepth};
 use crate::web::scene::{CameraTake, Scene};
 use crate::web::{api, canvas2d};
@@ -149,24 +150,17 @@ impl Player {
 
     /// Shows a camera-tracked take of the open recording in the 3D view,
     /// until [`Player::clear_camera_take`] or another recording: in place of
-    /// the corrected stick figure, the body model of `body_shape_json` (a
-    /// `BodyShape`, as the camera module's `body_shape_json` writes it)
-    /// solid, in frame `f` the recording's pose of `f` moved so that its
-    /// hips are at `camera_hips_cm` of `f` (x, y, z per frame, the
-    /// recording's own coordinates, cm; a frame with a non-finite one shows
-    /// no body); the camera as `frustum_cm`, line segments of six numbers
-    /// each (two ends, x, y, z, in the recording's coordinates, cm); and the
-    /// camera track's floor path beside the suit's and the inertial
-    /// estimate's. The floor and the view's framing take in the track and
-    /// the camera. On error (no recording open, a length that does not fit,
-    /// a shape that is not JSON or is of another skeleton) nothing shown
-    /// changes.
-    pub fn show_camera_take(
-        &mut self,
-        body_shape_json: &str,
-        camera_hips_cm: &[f64],
-        frustum_cm: &[f64],
-    ) -> Result<(), JsError> {
+    /// the corrected stick figure, the body model the take was tracked with
+    /// (`track::take::body_shape_of` the recording) solid, in frame `f` the
+    /// recording's pose of `f` moved so that its hips are at `camera_hips_cm`
+    /// of `f` (x, y, z per frame, the recording's own coordinates, cm; a
+    /// frame with a non-finite one shows no body); the camera as
+    /// `frustum_cm`, line segments of six numbers each (two ends, x, y, z, in
+    /// the recording's coordinates, cm); and the camera track's floor path
+    /// beside the suit's and the inertial estimate's. The floor and the
+    /// view's framing take in the track and the camera. On error (no
+    /// recording open, a length that does not fit) nothing shown changes.
+    pub fn show_camera_take(&mut self, camera_hips_cm: &[f64], frustum_cm: &[f64]) -> Result<(), JsError> {
         let session = self.open_session()?;
         let frames = session.recording.frame_count();
         if camera_hips_cm.len() != 3 * frames {
@@ -182,24 +176,9 @@ impl Player {
                 frustum_cm.len()
             )));
         }
-        let shape = api::body_shape_from_json(body_shape_json).map_err(js_error)?;
-        let joints = session.recording.joint_names.len();
-        if shape.joint_count != joints {
-            return Err(js_error(format!(
-                "the body shape is of a skeleton of {} joints, the recording {} has {joints}",
-                shape.joint_count, session.recording.name
-            )));
-        }
-        if let Some(&(a, b)) = shape.links.iter().find(|&&(a, b)| a.max(b) >= shape.spheres.len()) {
-            return Err(js_error(format!(
-                "the body shape links spheres {a} and {b}, but has {}",
-                shape.spheres.len()
-            )));
-        }
-        // Every sphere hangs on a joint of the recording's poses.
-        if frames > 0 {
-            shape.pose(session.recording.poses.frame(0), glam::DVec3::ZERO).map_err(js_error)?;
-        }
+        // The body model `embusen track` builds for this recording: built
+        // here from the recording shown, so it always fits its skeleton.
+        let shape = body_shape_of(&session.recording).map_err(js_error)?;
         let point = |p: &[f64]| glam::DVec3::new(p[0], p[1], p[2]);
         let take = CameraTake {
             shape,

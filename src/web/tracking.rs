@@ -9,8 +9,6 @@ use tsify::{Ts, Tsify};
 use wasm_bindgen::prelude::*;
 
 use crate::app::tracking::{TrackingJob, VideoDescription};
-use crate::io::recording::Recording;
-use crate::track::take::body_shape_of;
 use crate::web::camera_api::{
     FrameCandidates, FrameProgress, NamedFile, OffsetFound, PathWork, TakeFiles, TakeOptions, TruthErrors,
     read,
@@ -163,26 +161,10 @@ impl CameraJob {
         Ok(estimate.map(|e| OffsetFound::from(e).into_ts()).transpose()?)
     }
 
-    /// The body model the take is tracked with, as JSON (`BodyShape`):
-    /// what the player's 3D view draws solid (`Player.show_camera_take`).
-    pub fn body_shape_json(&self) -> Result<String, JsError> {
-        serde_json::to_string(self.job.body_shape()).map_err(js_error)
-    }
-
     /// The paper's candidates of each video frame of the finished track
     /// (none for `fused`).
     pub fn paper_candidates(&self) -> Result<Vec<Ts<FrameCandidates>>, JsError> {
         let frames = self.job.paper_candidates().into_iter().map(|c| FrameCandidates::from(c).into_ts());
         Ok(frames.collect::<Result<_, _>>()?)
     }
-}
-
-/// The body model `embusen track` builds for a recording (`BodyShape`, as
-/// JSON): the one a `CameraJob` of it tracks with. The error names the file.
-#[wasm_bindgen]
-pub fn body_shape_json(recording: Ts<NamedFile>) -> Result<String, JsError> {
-    let file: NamedFile = read(recording.js_value(), "the recording").map_err(js_error)?;
-    let recording = Recording::parse(&file.bytes, &file.name, None).map_err(js_error)?;
-    let shape = body_shape_of(&recording).map_err(js_error)?;
-    serde_json::to_string(&shape).map_err(js_error)
 }

@@ -47,7 +47,6 @@
  * @property {Uint32Array[]} outlines per video frame the body's outline where the track puts it: x, y pixel after pixel
  * @property {FrameCandidates[]} candidates the paper's per video frame (none for fused)
  * @property {Float64Array} trackedHipsCm per frame of the recording x, y, z (cm): for the player's 3D view
- * @property {string} bodyShapeJson the body model tracked with (`BodyShape` as JSON): for the player's 3D view
  * @property {TruthErrors | null} errors against the truth, when one was given
  * @property {string | null} truthProblem why there are none, when a truth was given
  * @property {OffsetFound | null} offset the time offset estimated, when asked for and found

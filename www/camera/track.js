@@ -165,7 +165,7 @@ async function showInPlayer(panel, recording, camera, done) {
     // The frustum reaches a metre ahead: the camera's size in the room's scale.
     const frustumCm = view.frustum_cm(100);
     view.free();
-    player.showCameraTake({ bodyShapeJson: done.bodyShapeJson, cameraHipsCm: done.trackedHipsCm, frustumCm });
+    player.showCameraTake({ cameraHipsCm: done.trackedHipsCm, frustumCm });
   } catch {
     // The player says what went wrong in its own error box; the track stands.
   }
