@@ -69,22 +69,23 @@ fn bytes_out<S: Serializer>(bytes: &[u8], serializer: S) -> Result<S::Ok, S::Err
     serializer.serialize_bytes(bytes)
 }
 
-/// The camera tracker: the paper's (T. Hachaj & M. R. Ogiela's search of
-/// 25 positions per frame) or embusen's fused one.
+/// The choice of a camera tracker, as the page makes it: `paper`
+/// (Riečický et al.'s search of 25 positions per frame, `track::riecicky`)
+/// or embusen's `fused`; [`TrackMethod`] adds the parameters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, Tsify)]
 #[serde(rename_all = "lowercase")]
-pub enum CameraMethod {
+pub enum TrackMethodKind {
     #[default]
     Fused,
     Paper,
 }
 
-impl CameraMethod {
+impl TrackMethodKind {
     /// The tracker with its default parameters, as `embusen track --method`.
     pub fn track_method(self) -> TrackMethod {
         match self {
-            CameraMethod::Fused => TrackMethod::Fused(FusedParams::default()),
-            CameraMethod::Paper => TrackMethod::Paper(RiecickyParams::default()),
+            TrackMethodKind::Fused => TrackMethod::Fused(FusedParams::default()),
+            TrackMethodKind::Paper => TrackMethod::Paper(RiecickyParams::default()),
         }
     }
 }
@@ -113,7 +114,7 @@ pub struct TakeOptions {
     /// The still of the empty room (PNG).
     pub background: NamedFile,
     pub video: VideoFacts,
-    pub method: CameraMethod,
+    pub method: TrackMethodKind,
     /// Added to a video frame's time to read the BVH (s), as `--offset-s`.
     pub offset_s: f64,
 }
