@@ -45,6 +45,13 @@ pub struct NamedBytes<'a> {
     pub bytes: &'a [u8],
 }
 
+impl<'a> NamedBytes<'a> {
+    /// The bytes as UTF-8 text; an error naming the file when they are not.
+    pub fn text(&self) -> Result<&'a str, Error> {
+        std::str::from_utf8(self.bytes).map_err(|e| Error::whole(self.name, format!("not UTF-8 text: {e}")))
+    }
+}
+
 /// Where one frame put the actor, as the job reports it while it runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameProgress {
@@ -129,9 +136,7 @@ impl TrackingJob {
         offset_s: f64,
     ) -> Result<TrackingJob, Error> {
         let recording = Recording::parse(recording.bytes, recording.name, None)?;
-        let camera_text = std::str::from_utf8(camera.bytes)
-            .map_err(|e| Error::whole(camera.name, format!("not UTF-8 text: {e}")))?;
-        let camera = Camera::from_json(camera_text, camera.name)?;
+        let camera = Camera::from_json(camera.text()?, camera.name)?;
         let background = Background::still(png_to_grey(background.bytes, background.name)?);
         TrackingJob::new(TakeInputs { recording, camera, background }, video_name, video, method, offset_s)
     }
@@ -334,10 +339,10 @@ impl TrackingJob {
         let Some(track) = &self.track else {
             return Err(Error::whole(truth.name, "the take is not tracked yet: nothing to compare"));
         };
-        let text = std::str::from_utf8(truth.bytes)
-            .map_err(|e| Error::whole(truth.name, format!("not UTF-8 text: {e}")))?;
-        let truth_cm: Vec<DVec2> =
-            parse_hips_csv(text, truth.name)?.iter().map(|s| DVec2::new(s.hips_cm.x, s.hips_cm.z)).collect();
+        let truth_cm: Vec<DVec2> = parse_hips_csv(truth.text()?, truth.name)?
+            .iter()
+            .map(|s| DVec2::new(s.hips_cm.x, s.hips_cm.z))
+            .collect();
         let track_cm: Vec<DVec2> = track.frames.iter().map(|f| f.floor_cm).collect();
         Ok((frame_errors_cm(&track_cm, &truth_cm), track_errors(&track_cm, &truth_cm)))
     }
