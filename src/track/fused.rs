@@ -23,7 +23,11 @@
 //!   alone;
 //! - **the smoothing is a forward–backward Kalman smoother**
 //!   (`smoother`), not a fixed Gaussian, and it learns how the suit's strides
-//!   and heading are off from what the camera sees.
+//!   and heading are off from what the camera sees;
+//! - **the depth comes from the floor**: where the planted soles meet the
+//!   floor in the image fixes the body's distance whatever its girths
+//!   (`soles`); the silhouette's bias along the line of sight that they
+//!   show is taken off the smoothed path.
 //!
 //! A frame is read in two steps: [`FusedTracker::predict`] (which also says
 //! how far the frame's distance transforms are needed), then
@@ -37,10 +41,12 @@ use crate::error::Error;
 use crate::image::GreyImage;
 use crate::image::pipeline::Features;
 use crate::track::energy::{BandedBody, FrameTerms, Scorer, SilhouetteFit};
+use crate::track::measurement::{largest_sigma_cm, measurement_covariance};
 use crate::track::path::{PathFrame, PathRecord, PathRequest, PathSearch};
 use crate::track::search::coarse_to_fine;
 use crate::track::setup::{FrameEstimate, TrackSetup};
 use crate::track::smoother::{FloorFilter, Measurement};
+use crate::track::soles::{Foot, SoleSighting, correct_depth, feet_of, sight_soles};
 use crate::track::suit_motion::{BvhInstant, SuitMotion};
 
 /// embusen's tracker's parameters; each has its physical reason.
@@ -166,11 +172,29 @@ pub struct FusedTracker {
     /// The forward filter, from the first frame with a pose on.
     filter: Option<FloorFilter>,
     path: PathSearch,
+    /// The body model's feet, found in the first frame with a pose.
+    feet: Option<Vec<Foot>>,
+    /// Frames read, and the first with a pose (where the filter starts).
+    frames_read: usize,
+    first_filtered: Option<usize>,
+    /// The planted soles seen, by frame read.
+    sightings: Vec<(usize, SoleSighting)>,
+    /// The floor below the camera (x, z, cm): where the lines of sight start.
+    camera_floor_cm: DVec2,
 }
 
 impl FusedTracker {
     pub fn new(params: FusedParams) -> FusedTracker {
-        FusedTracker { params, filter: None, path: PathSearch::default() }
+        FusedTracker {
+            params,
+            filter: None,
+            path: PathSearch::default(),
+            feet: None,
+            frames_read: 0,
+            first_filtered: None,
+            sightings: Vec::new(),
+            camera_floor_cm: DVec2::ZERO,
+        }
     }
 
     pub fn params(&self) -> FusedParams {
@@ -189,6 +213,7 @@ impl FusedTracker {
 
     /// A frame without a pose: the suit says nothing, the filter carries on.
     pub fn skip_frame(&mut self) {
+        self.frames_read += 1;
         self.path.next_frame();
         if let Some(filter) = &mut self.filter {
             filter.predict(DVec2::ZERO, 0.0);
@@ -257,6 +282,9 @@ impl FusedTracker {
         let fit = scoring.search(prediction_cm, radius_cm);
         let dt = 1.0 / setup.timing.fps;
         let reacquire_after = reacquire_after_frames(&params, dt);
+        let read = self.frames_read;
+        self.frames_read += 1;
+        self.first_filtered.get_or_insert(read);
         let filter = self
             .filter
             .get_or_insert_with(|| FloorFilter::new(prediction_cm, radius_cm, dt, reacquire_after));
@@ -272,8 +300,17 @@ impl FusedTracker {
             let (record, request) = scoring.path_record(prediction, &measured, self.path.is_deferred(), i);
             self.path.push(Some(record), request);
         }
+        let feet = self.feet.get_or_insert_with(|| feet_of(&setup.shape));
+        let centre = setup.camera.center_in_world();
+        self.camera_floor_cm = DVec2::new(centre.x, centre.z);
+        let near_cm = filter.current().0;
+        self.sightings.extend(
+            sight_soles(&setup.camera, feet, body, &features.foreground, near_cm)
+                .into_iter()
+                .map(|s| (read, s)),
+        );
         FrameEstimate {
-            floor_cm: filter.current().0,
+            floor_cm: near_cm,
             confidence: measured.confidence,
             measured_cm: measured.measured_cm,
         }
@@ -299,7 +336,12 @@ impl FusedTracker {
             dt_s,
             reacquire_after_frames(params, dt_s),
         );
-        let smoothed = searched.as_ref().unwrap_or(filter).smooth().into_iter().map(|(p, _)| p).collect();
+        let mut smoothed: Vec<DVec2> =
+            searched.as_ref().unwrap_or(filter).smooth().into_iter().map(|(p, _)| p).collect();
+        let first = self.first_filtered.unwrap_or(0);
+        let sightings: Vec<(usize, SoleSighting)> =
+            self.sightings.iter().filter_map(|&(i, s)| i.checked_sub(first).map(|k| (k, s))).collect();
+        correct_depth(&mut smoothed, &sightings, dt_s, self.camera_floor_cm);
         (Some(smoothed), filter.mean_innovation(), warnings)
     }
 }
@@ -619,81 +661,3 @@ const ENERGY_NOISE_PX: f64 = 0.1;
 /// A measurement is never taken as more uncertain than this (cm, one σ):
 /// past it, it might as well not be.
 const MAX_MEASUREMENT_SIGMA_CM: f64 = 300.0;
-
-/// The square root of the covariance's larger eigenvalue (cm).
-fn largest_sigma_cm(covariance: DMat2) -> f64 {
-    let (a, b, d) = (covariance.x_axis.x, covariance.y_axis.x, covariance.y_axis.y);
-    let mean = 0.5 * (a + d);
-    let spread = (0.25 * (a - d) * (a - d) + b * b).sqrt();
-    (mean + spread).max(0.0).sqrt()
-}
-
-/// The covariance (cm²) of a floor position measured to `sigma_px` in the
-/// image: `σ² (Jᵀ J)⁻¹`, with `Jᵀ J` the mean over the body's spheres of
-/// how their pixels move per cm of floor shift (finite differences through
-/// the lens). Along the camera's line of sight the pixels barely move, so
-/// that direction comes out uncertain, as it is. `None` when the body is
-/// not in front of the camera.
-fn measurement_covariance(
-    camera: &Camera,
-    body: &PosedBody,
-    floor_cm: DVec2,
-    sigma_px: f64,
-) -> Option<DMat2> {
-    let shift = DVec3::new(floor_cm.x, 0.0, floor_cm.y);
-    let mut normal = DMat2::ZERO;
-    let mut count = 0usize;
-    for sphere in &body.spheres {
-        let at = sphere.centre_cm + shift;
-        let (Some(p), Some(px), Some(pz)) = (
-            camera.point_in_image(at),
-            camera.point_in_image(at + DVec3::X),
-            camera.point_in_image(at + DVec3::Z),
-        ) else {
-            continue;
-        };
-        let j = DMat2::from_cols(px - p, pz - p);
-        normal += j.transpose() * j;
-        count += 1;
-    }
-    if count == 0 {
-        return None;
-    }
-    let normal = normal * (1.0 / count as f64);
-    if normal.determinant().abs() < 1e-12 {
-        return None;
-    }
-    Some(normal.inverse() * (sigma_px * sigma_px))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_covariance_of_a_camera_s_measurement_is_long_along_its_line_of_sight() {
-        // A camera on the -Z side looking along +Z at a body 5 m away: a
-        // floor shift across the view (x) moves the pixels far more than one
-        // along it (z).
-        let camera = Camera {
-            image_size: crate::camera::ImageSize { width_px: 640, height_px: 480 },
-            intrinsics: crate::camera::Intrinsics { fx_px: 500.0, fy_px: 500.0, cx_px: 319.5, cy_px: 239.5 },
-            distortion: crate::camera::Distortion::default(),
-            camera_from_world: glam::DAffine3::from_mat3_translation(
-                glam::DMat3::from_cols(DVec3::X, DVec3::NEG_Y, DVec3::Z),
-                DVec3::new(0.0, 150.0, -500.0),
-            )
-            .inverse(),
-        };
-        let body = PosedBody {
-            spheres: [0.0, 50.0, 100.0, 150.0]
-                .map(|y| crate::body::shape::Sphere { centre_cm: DVec3::new(0.0, y, 0.0), radius_cm: 10.0 })
-                .to_vec(),
-            cones: vec![(0, 1), (1, 2), (2, 3)],
-        };
-        let covariance = measurement_covariance(&camera, &body, DVec2::ZERO, 1.0).unwrap();
-        let (across, along) = (covariance.x_axis.x, covariance.y_axis.y);
-        assert!(along > 10.0 * across, "across {across} cm², along {along} cm²");
-        assert!((largest_sigma_cm(covariance) - along.sqrt()).abs() < 1e-6 * along.sqrt());
-    }
-}

@@ -3,7 +3,8 @@
 //! video, each frame's features computed once ([`setup`]): Riečický et
 //! al.'s as published ([`riecicky`]) or embusen's ([`fused`]: the contact
 //! method's floor path predicts, [`smoother`] weighs it against the camera,
-//! [`path`] searches the whole path along the lines of sight). Both score a
+//! [`path`] searches the whole path along the lines of sight,
+//! [`soles`] takes the depth from the planted feet). Both score a
 //! body's silhouette ([`silhouette`], rendered on the CPU from
 //! `body::shape`) against the frame ([`energy`]); [`take`] makes a take
 //! and writes its track, [`offset`] finds the video's time offset. May
@@ -12,6 +13,7 @@
 
 pub mod energy;
 pub mod fused;
+pub mod measurement;
 pub mod offset;
 pub mod path;
 pub mod riecicky;
@@ -19,6 +21,7 @@ pub mod search;
 pub mod setup;
 pub mod silhouette;
 pub mod smoother;
+pub mod soles;
 pub mod suit_motion;
 pub mod take;
 pub mod tracker;
