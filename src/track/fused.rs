@@ -46,7 +46,7 @@ use crate::track::path::{PathFrame, PathRecord, PathRequest, PathSearch};
 use crate::track::search::coarse_to_fine;
 use crate::track::setup::{FrameEstimate, TrackSetup};
 use crate::track::smoother::{FloorFilter, Measurement};
-use crate::track::soles::{Foot, SoleSighting, correct_depth, feet_of, sight_soles};
+use crate::track::soles::{Foot, SoleView, bridge_flights, correct_depth, feet_of, is_planted, view_soles};
 use crate::track::suit_motion::{BvhInstant, SuitMotion};
 
 /// embusen's tracker's parameters; each has its physical reason.
@@ -177,10 +177,14 @@ pub struct FusedTracker {
     /// Frames read, and the first with a pose (where the filter starts).
     frames_read: usize,
     first_filtered: Option<usize>,
-    /// The planted soles seen, by frame read.
-    sightings: Vec<(usize, SoleSighting)>,
-    /// The floor below the camera (x, z, cm): where the lines of sight start.
-    camera_floor_cm: DVec2,
+    /// The planted soles in view, by frame read.
+    soles: Vec<(usize, SoleView)>,
+    /// Per frame read, whether the suit's pose has a foot on the floor, and
+    /// its step into the frame (cm).
+    planted: Vec<bool>,
+    steps_cm: Vec<DVec2>,
+    /// The camera, once a frame with a pose was read.
+    camera: Option<Camera>,
 }
 
 impl FusedTracker {
@@ -192,8 +196,10 @@ impl FusedTracker {
             feet: None,
             frames_read: 0,
             first_filtered: None,
-            sightings: Vec::new(),
-            camera_floor_cm: DVec2::ZERO,
+            soles: Vec::new(),
+            planted: Vec::new(),
+            steps_cm: Vec::new(),
+            camera: None,
         }
     }
 
@@ -214,6 +220,8 @@ impl FusedTracker {
     /// A frame without a pose: the suit says nothing, the filter carries on.
     pub fn skip_frame(&mut self) {
         self.frames_read += 1;
+        self.planted.push(false);
+        self.steps_cm.push(DVec2::ZERO);
         self.path.next_frame();
         if let Some(filter) = &mut self.filter {
             filter.predict(DVec2::ZERO, 0.0);
@@ -301,14 +309,12 @@ impl FusedTracker {
             self.path.push(Some(record), request);
         }
         let feet = self.feet.get_or_insert_with(|| feet_of(&setup.shape));
-        let centre = setup.camera.center_in_world();
-        self.camera_floor_cm = DVec2::new(centre.x, centre.z);
+        self.camera = Some(setup.camera);
         let near_cm = filter.current().0;
-        self.sightings.extend(
-            sight_soles(&setup.camera, feet, body, &features.foreground, near_cm)
-                .into_iter()
-                .map(|s| (read, s)),
-        );
+        self.planted.push(feet.iter().any(|f| is_planted(f, body)));
+        self.steps_cm.push(prediction.step_cm);
+        let views = view_soles(&setup.camera, feet, body, &features.foreground, near_cm);
+        self.soles.extend(views.into_iter().map(|v| (read, v)));
         FrameEstimate {
             floor_cm: near_cm,
             confidence: measured.confidence,
@@ -339,9 +345,15 @@ impl FusedTracker {
         let mut smoothed: Vec<DVec2> =
             searched.as_ref().unwrap_or(filter).smooth().into_iter().map(|(p, _)| p).collect();
         let first = self.first_filtered.unwrap_or(0);
-        let sightings: Vec<(usize, SoleSighting)> =
-            self.sightings.iter().filter_map(|&(i, s)| i.checked_sub(first).map(|k| (k, s))).collect();
-        correct_depth(&mut smoothed, &sightings, dt_s, self.camera_floor_cm);
+        if let Some(camera) = &self.camera {
+            let soles: Vec<(usize, SoleView)> =
+                self.soles.drain(..).filter_map(|(i, v)| i.checked_sub(first).map(|k| (k, v))).collect();
+            correct_depth(&mut smoothed, &soles, camera, dt_s);
+            let (planted, steps_cm) = (self.planted.get(first..), self.steps_cm.get(first..));
+            if let (Some(planted), Some(steps_cm)) = (planted, steps_cm) {
+                bridge_flights(&mut smoothed, planted, steps_cm, dt_s, camera);
+            }
+        }
         (Some(smoothed), filter.mean_innovation(), warnings)
     }
 }

@@ -69,6 +69,23 @@ pub fn feet_of(shape: &BodyShape) -> Vec<Foot> {
 /// floor, give or take the pose's noise of a few centimetres.
 pub const PLANTED_CM: f64 = 3.0;
 
+/// Whether `foot` is on the floor in `body` (posed as the suit says, the
+/// floor at y = 0): its lowest point within [`PLANTED_CM`] of it.
+pub fn is_planted(foot: &Foot, body: &PosedBody) -> bool {
+    let lowest_cm = foot
+        .spheres
+        .iter()
+        .filter_map(|&s| body.spheres.get(s))
+        .map(|s| s.centre_cm.y - s.radius_cm)
+        .fold(f64::INFINITY, f64::min);
+    lowest_cm <= PLANTED_CM
+}
+
+/// The longest a body is in the air (s): a long jump's flight lasts under
+/// a second. A longer stretch without a foot on the floor is the pose's
+/// height gone wrong, not a flight.
+pub const MAX_FLIGHT_S: f64 = 1.0;
+
 /// How far along the line of sight (cm) either side of where the track
 /// expects the sole its edge is looked for: more than the silhouette's
 /// worst bias (about 30 cm), less than a stride, so the other foot of a
@@ -105,8 +122,7 @@ pub const PRIOR_BIAS_SIGMA_CM: f64 = 20.0;
 /// One planted foot seen in a frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SoleSighting {
-    /// The hips' floor position (x, z, cm) the foot implies along `along`,
-    /// from the track's position when it was seen.
+    /// The hips' floor position (x, z, cm) the foot implies along `along`.
     pub implied_hips_cm: DVec2,
     /// The camera's line of sight on the floor there (unit).
     pub along: DVec2,
@@ -116,77 +132,154 @@ pub struct SoleSighting {
     pub sigma_cm: f64,
 }
 
+/// A sphere of a foot as its sole: under its centre on the floor, relative
+/// to the hips' floor point (x, z, cm), and its radius (cm).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct SoleSphere {
+    offset_cm: DVec2,
+    radius_cm: f64,
+}
+
+/// One planted foot in one frame, kept so that it can be sighted from
+/// wherever the path finally puts the hips: the foot's sole as the pose
+/// has it, and the foreground's runs in the image columns around it. (A
+/// sighting made where the forward filter stood, when that was 40 cm off,
+/// would look for the sole in the wrong rows and confirm the error.)
+#[derive(Clone, Debug, PartialEq)]
+pub struct SoleView {
+    sole: Vec<SoleSphere>,
+    /// The first image column kept.
+    first_column: i64,
+    /// Per column kept, the foreground's runs of rows (first, last), top
+    /// down, within the rows kept.
+    runs: Vec<Vec<(i64, i64)>>,
+}
+
 /// The planted feet of `body` (posed at the floor's origin, as the suit
-/// says) seen in `foreground` with the hips at `hips_cm`: where the lowest
-/// foreground row in each sole's columns puts the hips along the camera's
-/// line of sight. A foot whose columns hold the other foot's sole too, or
-/// no foreground, is not sighted.
-pub fn sight_soles(
+/// says) in `foreground`, with the hips near `hips_cm`: each foot's
+/// [`SoleView`], with the columns and rows its sole's edge may be in
+/// within twice [`REACH_CM`] along the line of sight. A foot whose window
+/// also holds another part of the body (the other foot or leg striding
+/// past, which could be lowest there) is left out.
+pub fn view_soles(
     camera: &Camera,
     feet: &[Foot],
     body: &PosedBody,
     foreground: &Mask,
     hips_cm: DVec2,
-) -> Vec<SoleSighting> {
-    let centre = camera.center_in_world();
-    let soles: Vec<Option<SoleEdge>> = feet
-        .iter()
-        .map(|foot| sole_edge(camera, foot, body, hips_cm, DVec2::new(centre.x, centre.z)))
-        .collect();
+) -> Vec<SoleView> {
     let discs = image_discs(camera, body, hips_cm);
-    let leg_of: Vec<Vec<usize>> = feet.iter().map(|f| leg_spheres(f, body)).collect();
-    let mut sightings = Vec::new();
-    for (k, (foot, sole)) in feet.iter().zip(&soles).enumerate() {
-        let Some(sole) = sole else { continue };
-        let lowest_cm = foot
+    let mut views = Vec::new();
+    for foot in feet.iter().filter(|f| is_planted(f, body)) {
+        let sole: Vec<SoleSphere> = foot
             .spheres
             .iter()
             .filter_map(|&s| body.spheres.get(s))
-            .map(|s| s.centre_cm.y - s.radius_cm)
-            .fold(f64::INFINITY, f64::min);
-        if lowest_cm > PLANTED_CM {
-            continue;
-        }
-        let rows = sole.rows_reached(camera);
-        let Some((top, bottom)) = rows else { continue };
-        // Whatever else of the body the model puts in front of the floor
-        // there (the other foot or leg striding past) could be lowest: the
-        // foot is not sighted.
+            .map(|s| SoleSphere {
+                offset_cm: DVec2::new(s.centre_cm.x, s.centre_cm.z),
+                radius_cm: s.radius_cm,
+            })
+            .collect();
+        let Some(edge) = sole_edge(camera, &sole, hips_cm) else { continue };
+        let Some((top, bottom)) = edge.rows_reached(camera, REACH_CM) else { continue };
         let window = PixelWindow {
-            left: sole.pixel.x - sole.half_width_px,
-            right: sole.pixel.x + sole.half_width_px,
+            left: edge.pixel.x - edge.half_width_px,
+            right: edge.pixel.x + edge.half_width_px,
             top,
             bottom,
         };
-        if discs.iter().any(|d| !leg_of[k].contains(&d.sphere_a) && window.meets(d)) {
+        let leg = leg_spheres(foot, body);
+        if discs.iter().any(|d| !leg.contains(&d.sphere) && window.meets(d)) {
             continue;
         }
-        let Some(row) = lowest_foreground_row(foreground, sole.pixel.x, sole.half_width_px, top, bottom)
-        else {
-            continue;
-        };
-        let Some(seen) = camera.floor_point(DVec2::new(sole.pixel.x, row)) else { continue };
-        let Some(next_row) = camera.floor_point(DVec2::new(sole.pixel.x, row + 1.0)) else { continue };
-        let seen_cm = DVec2::new(seen.x, seen.z);
-        let shift_cm = (seen_cm - sole.floor_cm).dot(sole.along);
-        let cm_per_row = (DVec2::new(next_row.x, next_row.z) - seen_cm).length();
-        let sigma_cm = (EDGE_SIGMA_PX * cm_per_row).hypot(POSE_SIGMA_CM);
-        sightings.push(SoleSighting {
-            implied_hips_cm: hips_cm + sole.along * shift_cm,
-            along: sole.along,
-            sigma_cm,
+        let Some((top, bottom)) = edge.rows_reached(camera, 2.0 * REACH_CM) else { continue };
+        // The columns drift little as the hips move along the line of
+        // sight; a margin of a few pixels covers it.
+        let margin_px = 2.0 + 0.5 * edge.half_width_px;
+        let first = (edge.pixel.x - edge.half_width_px - margin_px).floor() as i64;
+        let last = (edge.pixel.x + edge.half_width_px + margin_px).ceil() as i64;
+        views.push(SoleView {
+            sole,
+            first_column: first,
+            runs: (first..=last).map(|x| foreground_runs(foreground, x, top, bottom)).collect(),
         });
     }
-    sightings
+    views
+}
+
+impl SoleView {
+    /// Where this foot puts the hips along the line of sight when they are
+    /// near `hips_cm`: the median over the sole's columns of the lowest
+    /// foreground row within [`REACH_CM`] of where its edge would be;
+    /// `None` when fewer than half its columns have foreground there or
+    /// the columns were not kept.
+    pub fn sight(&self, camera: &Camera, hips_cm: DVec2) -> Option<SoleSighting> {
+        let edge = sole_edge(camera, &self.sole, hips_cm)?;
+        let (top, bottom) = edge.rows_reached(camera, REACH_CM)?;
+        let first = (edge.pixel.x - edge.half_width_px).round() as i64;
+        let last = (edge.pixel.x + edge.half_width_px).round() as i64;
+        let mut lows: Vec<i64> = Vec::new();
+        for x in first..=last {
+            let runs = usize::try_from(x - self.first_column).ok().and_then(|c| self.runs.get(c))?;
+            let lowest = runs
+                .iter()
+                .filter(|(a, b)| (*a as f64) <= bottom && (*b as f64) >= top)
+                .map(|(_, b)| (*b).min(bottom.floor() as i64))
+                .max();
+            lows.extend(lowest);
+        }
+        let columns = (last - first + 1).max(1) as usize;
+        if lows.is_empty() || 2 * lows.len() < columns {
+            return None;
+        }
+        lows.sort_unstable();
+        let row = lows[lows.len() / 2] as f64;
+        let seen = camera.floor_point(DVec2::new(edge.pixel.x, row))?;
+        let next_row = camera.floor_point(DVec2::new(edge.pixel.x, row + 1.0))?;
+        let seen_cm = DVec2::new(seen.x, seen.z);
+        let shift_cm = (seen_cm - edge.floor_cm).dot(edge.along);
+        let cm_per_row = (DVec2::new(next_row.x, next_row.z) - seen_cm).length();
+        Some(SoleSighting {
+            implied_hips_cm: hips_cm + edge.along * shift_cm,
+            along: edge.along,
+            sigma_cm: (EDGE_SIGMA_PX * cm_per_row).hypot(POSE_SIGMA_CM),
+        })
+    }
+}
+
+/// Column `x`'s runs of foreground rows (first, last) between rows `top`
+/// and `bottom`, top down; none off the image.
+fn foreground_runs(mask: &Mask, x: i64, top: f64, bottom: f64) -> Vec<(i64, i64)> {
+    let (w, h) = (mask.width_px as i64, mask.height_px as i64);
+    if x < 0 || x >= w {
+        return Vec::new();
+    }
+    let (top, bottom) = ((top.floor() as i64).max(0), (bottom.ceil() as i64).min(h - 1));
+    let mut runs = Vec::new();
+    let mut start: Option<i64> = None;
+    for y in top..=bottom {
+        match (mask.on[(y * w + x) as usize], start) {
+            (true, None) => start = Some(y),
+            (false, Some(a)) => {
+                runs.push((a, y - 1));
+                start = None;
+            }
+            _ => {}
+        }
+    }
+    if let Some(a) = start {
+        runs.push((a, bottom));
+    }
+    runs
 }
 
 /// A round patch of the body's image: a sphere's, or a point of a cone
-/// between two (then `sphere_a` is the cone's end nearer the hips' side
+/// between two (then `sphere` is the cone's end nearer the hips' side
 /// of the list, `sphere_b` the other).
 struct ImageDisc {
     centre_px: DVec2,
     radius_px: f64,
-    sphere_a: usize,
+    sphere: usize,
 }
 
 /// The body's spheres, and three points along each cone, as discs in the
@@ -195,14 +288,14 @@ struct ImageDisc {
 /// own cones are known by their spheres.
 fn image_discs(camera: &Camera, body: &PosedBody, hips_cm: DVec2) -> Vec<ImageDisc> {
     let shift = DVec3::new(hips_cm.x, 0.0, hips_cm.y);
-    let disc = |centre_cm: DVec3, radius_cm: f64, sphere_a: usize| {
+    let disc = |centre_cm: DVec3, radius_cm: f64, sphere: usize| {
         let at = centre_cm + shift;
         let depth_cm = camera.point_in_camera(at).z;
         let centre_px = camera.point_in_image(at)?;
         (depth_cm > 0.0).then(|| ImageDisc {
             centre_px,
             radius_px: camera.intrinsics.fx_px * radius_cm / depth_cm,
-            sphere_a,
+            sphere,
         })
     };
     let mut discs: Vec<ImageDisc> =
@@ -265,32 +358,27 @@ struct SoleEdge {
 }
 
 impl SoleEdge {
-    /// The image rows (top, bottom) of the floor [`REACH_CM`] farther and
+    /// The image rows (top, bottom) of the floor `reach_cm` farther and
     /// nearer along the line of sight.
-    fn rows_reached(&self, camera: &Camera) -> Option<(f64, f64)> {
+    fn rows_reached(&self, camera: &Camera, reach_cm: f64) -> Option<(f64, f64)> {
         let at = |d: f64| {
             let p = self.floor_cm + self.along * d;
             camera.point_in_image(DVec3::new(p.x, 0.0, p.y)).map(|px| px.y)
         };
-        let (far, near) = (at(REACH_CM)?, at(-REACH_CM)?);
+        let (far, near) = (at(reach_cm)?, at(-reach_cm)?);
         Some((far.min(near), far.max(near)))
     }
 }
 
-/// The edge of `foot`'s sole nearest the camera (standing below the camera
-/// at `camera_floor_cm`) with the hips at `hips_cm`: of the floor points
-/// nearest the camera under each of the foot's spheres, the one lowest in
-/// the image.
-fn sole_edge(
-    camera: &Camera,
-    foot: &Foot,
-    body: &PosedBody,
-    hips_cm: DVec2,
-    camera_floor_cm: DVec2,
-) -> Option<SoleEdge> {
+/// The edge nearest the camera of `sole` with the hips at `hips_cm`: of the
+/// floor points nearest the camera under each of its spheres, the one
+/// lowest in the image.
+fn sole_edge(camera: &Camera, sole: &[SoleSphere], hips_cm: DVec2) -> Option<SoleEdge> {
+    let centre = camera.center_in_world();
+    let camera_floor_cm = DVec2::new(centre.x, centre.z);
     let mut best: Option<SoleEdge> = None;
-    for sphere in foot.spheres.iter().filter_map(|&s| body.spheres.get(s)) {
-        let under = DVec2::new(sphere.centre_cm.x, sphere.centre_cm.z) + hips_cm;
+    for sphere in sole {
+        let under = sphere.offset_cm + hips_cm;
         let along = (under - camera_floor_cm).normalize_or_zero();
         if along == DVec2::ZERO {
             continue;
@@ -308,30 +396,12 @@ fn sole_edge(
     best
 }
 
-/// The median over the columns within `half_width_px` of `x_px` of each
-/// column's lowest foreground row between rows `top` and `bottom`; `None`
-/// when fewer than half the columns have any.
-fn lowest_foreground_row(mask: &Mask, x_px: f64, half_width_px: f64, top: f64, bottom: f64) -> Option<f64> {
-    let (w, h) = (mask.width_px as i64, mask.height_px as i64);
-    let (first, last) = ((x_px - half_width_px).round() as i64, (x_px + half_width_px).round() as i64);
-    let (top, bottom) = ((top.floor() as i64).max(0), (bottom.ceil() as i64).min(h - 1));
-    let mut lows: Vec<i64> = Vec::new();
-    let mut columns = 0usize;
-    for x in first.max(0)..=last.min(w - 1) {
-        columns += 1;
-        if let Some(y) = (top..=bottom).rev().find(|&y| mask.on[(y * w + x) as usize]) {
-            lows.push(y);
-        }
-    }
-    if lows.is_empty() || 2 * lows.len() < columns {
-        return None;
-    }
-    lows.sort_unstable();
-    Some(lows[lows.len() / 2] as f64)
-}
-
 /// `track` (floor positions per frame, cm) moved along the camera's lines
-/// of sight by the bias its sightings show. Per frame, each sighting's
+/// of sight by the bias the planted soles show: `views` (frame index into
+/// `track`, view) sighted from the track, the bias estimated and taken
+/// off, then sighted again from the corrected track (a sole looked for
+/// where the track first stood may be found at the edge of its window)
+/// and estimated once more. Per frame, each sighting's
 /// offset (how far beyond the track it puts the hips) weighs by its
 /// precision and by a Gaussian of [`BIAS_TIME_SIGMA_S`] in time; the
 /// weighted median finds the bulk, the weighted mean of the offsets within
@@ -343,10 +413,35 @@ fn lowest_foreground_row(mask: &Mask, x_px: f64, half_width_px: f64, top: f64, b
 /// (cm along the line of sight, one σ).
 pub fn correct_depth(
     track: &mut [DVec2],
-    sightings: &[(usize, SoleSighting)],
+    views: &[(usize, SoleView)],
+    camera: &Camera,
     dt_s: f64,
-    camera_floor_cm: DVec2,
 ) -> Vec<(f64, f64)> {
+    let mut corrections: Vec<(f64, f64)> = Vec::new();
+    for _ in 0..2 {
+        let sightings: Vec<(usize, SoleSighting)> = views
+            .iter()
+            .filter_map(|(i, view)| track.get(*i).and_then(|&p| view.sight(camera, p)).map(|s| (*i, s)))
+            .collect();
+        let more = bias_corrections(track, &sightings, camera, dt_s);
+        corrections = if corrections.is_empty() {
+            more
+        } else {
+            corrections.iter().zip(more).map(|(a, b)| (a.0 + b.0, b.1)).collect()
+        };
+    }
+    corrections
+}
+
+/// One round of [`correct_depth`] from `sightings`.
+fn bias_corrections(
+    track: &mut [DVec2],
+    sightings: &[(usize, SoleSighting)],
+    camera: &Camera,
+    dt_s: f64,
+) -> Vec<(f64, f64)> {
+    let centre = camera.center_in_world();
+    let camera_floor_cm = DVec2::new(centre.x, centre.z);
     let n = track.len();
     let offsets: Vec<(usize, f64, f64)> = sightings
         .iter()
@@ -405,4 +500,47 @@ fn weighted_median(values: &[(f64, f64, f64)]) -> Option<f64> {
         }
     }
     None
+}
+
+/// `track` (floor positions per frame, cm) through each flight — a run of
+/// frames where no foot of the suit's pose is on the floor (`planted`
+/// false), no longer than [`MAX_FLIGHT_S`], with a planted frame on either
+/// side — replaced along the camera's line of sight by the suit's own
+/// steps (`steps_cm`, per frame, into it) from the take-off, their drift
+/// spread evenly to meet the landing. In the air the body's height is the
+/// contact method's guess, and a body placed too high fits the image best
+/// nearer the camera (docs/track.md, "Height"): the silhouette's depth is
+/// worst exactly there, where the sole's sightings, which anchor both
+/// ends, are missing. Across `camera`'s line of sight the track stays.
+pub fn bridge_flights(track: &mut [DVec2], planted: &[bool], steps_cm: &[DVec2], dt_s: f64, camera: &Camera) {
+    let centre = camera.center_in_world();
+    let camera_floor_cm = DVec2::new(centre.x, centre.z);
+    let n = track.len().min(planted.len()).min(steps_cm.len());
+    let longest = (MAX_FLIGHT_S / dt_s).round() as usize;
+    let mut i = 1;
+    while i < n {
+        if planted[i] || !planted[i - 1] {
+            i += 1;
+            continue;
+        }
+        let (take_off, mut landing) = (i - 1, i);
+        while landing < n && !planted[landing] {
+            landing += 1;
+        }
+        if landing < n && landing - take_off - 1 <= longest {
+            let mut flown = vec![DVec2::ZERO; landing - take_off + 1];
+            for k in 1..flown.len() {
+                flown[k] = flown[k - 1] + steps_cm[take_off + k];
+            }
+            let drift = track[landing] - track[take_off] - flown[flown.len() - 1];
+            for k in 1..flown.len() - 1 {
+                let share = k as f64 / (flown.len() - 1) as f64;
+                let bridged = track[take_off] + flown[k] + drift * share;
+                let p = &mut track[take_off + k];
+                let along = (*p - camera_floor_cm).normalize_or_zero();
+                *p += along * (bridged - *p).dot(along);
+            }
+        }
+        i = landing + 1;
+    }
 }

@@ -83,6 +83,16 @@ pub struct EvalTrackArgs {
     /// searched densely around the true position (`oracle` rows; slow).
     #[arg(long)]
     camera_oracle: bool,
+    /// Only these trackers (`paper`, `fused`); both when not given.
+    #[arg(long = "method", value_enum)]
+    methods: Vec<TrackMethodName>,
+}
+
+/// A tracker as `eval-track --method` names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum TrackMethodName {
+    Paper,
+    Fused,
 }
 
 /// Frames from a video or a folder of PNGs.
@@ -390,9 +400,12 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
         });
         let room =
             background(background_still.is_file().then_some(background_still.as_path()), &video, None)?;
-        for method in
-            [TrackMethod::Paper(RiecickyParams::default()), TrackMethod::Fused(FusedParams::default())]
-        {
+        let wanted = |name| args.methods.is_empty() || args.methods.contains(&name);
+        let methods = [
+            (TrackMethodName::Paper, TrackMethod::Paper(RiecickyParams::default())),
+            (TrackMethodName::Fused, TrackMethod::Fused(FusedParams::default())),
+        ];
+        for method in methods.into_iter().filter(|(name, _)| wanted(*name)).map(|(_, m)| m) {
             let inputs = TakeInputs { recording: recording.clone(), camera, background: room.clone() };
             let (mut job, mut frames) = open_job(inputs, &video, method)?;
             let (_, ms_per_frame, _) = run_job(&mut job, &mut frames, false)?;
