@@ -1,6 +1,6 @@
 //! The camera trackers end to end: frames rendered from a known motion with
 //! a known camera, tracked from the suit's pose, compared with the truth;
-//! and on the shared scenes, the figures issue 13 asks for.
+//! and on the shared scenes, the figures issues 13 and 22 ask for.
 
 // A test may panic on what it does not expect: that is how it fails.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -291,22 +291,40 @@ fn app_tracks(video: &Path, bvh: &Path, camera: &Path, background: &Path) -> (St
     (export.recording_text, export.track_csv)
 }
 
-/// Per shared scene, the mean horizontal error (cm) of the paper's and the
-/// fused tracker with the true camera, computed once for the tests.
-fn shared_scene_errors() -> Option<&'static Vec<(String, f64, f64)>> {
+/// One shared scene's figures with the true camera: the suit's own
+/// translation's mean error (cm), the paper's mean (on the four scenes the
+/// published method was measured on), the fused tracker's errors.
+#[derive(Debug)]
+struct SceneFigures {
+    name: &'static str,
+    suit_mean_cm: f64,
+    paper_mean_cm: Option<f64>,
+    fused: embusen::eval::track::TrackErrors,
+}
+
+/// The shared scenes the published method was measured on (its OpenCV
+/// implementation: 44 / 17 / 11 / 28 cm), then the three hard ones.
+const SHARED_SCENES: [&str; 7] =
+    ["walk", "walk_turns", "run", "slash", "walk_toward", "shadow", "second_person"];
+
+/// Per shared scene, its figures, computed once for the tests.
+fn shared_scene_figures() -> Option<&'static Vec<SceneFigures>> {
     use embusen::eval::track::track_errors;
     use embusen::io::hips_csv::parse_hips_csv;
-    static ALL: std::sync::OnceLock<Vec<(String, f64, f64)>> = std::sync::OnceLock::new();
+    use embusen::track::suit_motion::SuitMotion;
+    static ALL: std::sync::OnceLock<Vec<SceneFigures>> = std::sync::OnceLock::new();
     let dir = common::data_dir()?.join("optical");
     Some(ALL.get_or_init(|| {
-        ["walk", "walk_turns", "run", "slash"]
+        SHARED_SCENES
             .iter()
-            .map(|name| {
+            .enumerate()
+            .map(|(k, name)| {
                 let scene = common::optical::open_scene(&dir, name);
                 let truth_path = dir.join(format!("{name}.truth.csv"));
                 let truth = parse_hips_csv(&std::fs::read_to_string(truth_path).unwrap(), name).unwrap();
+                let times: Vec<f64> = truth.iter().map(|s| s.time_s).collect();
                 let truth: Vec<DVec2> = truth.iter().map(|s| DVec2::new(s.hips_cm.x, s.hips_cm.z)).collect();
-                let mean = |method| {
+                let errors = |method| {
                     let track = track(
                         &scene.recording,
                         scene.camera,
@@ -316,12 +334,24 @@ fn shared_scene_errors() -> Option<&'static Vec<(String, f64, f64)>> {
                         method,
                     );
                     let floor: Vec<DVec2> = track.frames.iter().map(|f| f.floor_cm).collect();
-                    track_errors(&floor, &truth).mean_cm
+                    track_errors(&floor, &truth)
                 };
-                let paper = mean(TrackMethod::Paper(RiecickyParams::default()));
-                let fused = mean(TrackMethod::Fused(FusedParams::default()));
-                eprintln!("{name}: paper {paper:.1} cm, fused {fused:.1} cm");
-                (name.to_string(), paper, fused)
+                let suit = SuitMotion::new(&scene.recording).unwrap();
+                let suit_floor: Vec<DVec2> = times
+                    .iter()
+                    .map(|&t| {
+                        SuitMotion::floor_at(&suit.suit_floor_cm, suit.instant(t)).unwrap_or(DVec2::NAN)
+                    })
+                    .collect();
+                let figures = SceneFigures {
+                    name,
+                    suit_mean_cm: track_errors(&suit_floor, &truth).mean_cm,
+                    paper_mean_cm: (k < 4)
+                        .then(|| errors(TrackMethod::Paper(RiecickyParams::default())).mean_cm),
+                    fused: errors(TrackMethod::Fused(FusedParams::default())),
+                };
+                eprintln!("{figures:?}");
+                figures
             })
             .collect()
     }))
@@ -333,28 +363,50 @@ fn shared_scene_errors() -> Option<&'static Vec<(String, f64, f64)>> {
 /// worse than a lost track.
 #[test]
 fn the_faithful_tracker_lands_near_the_published_method() {
-    let Some(errors) = shared_scene_errors() else { return };
+    let Some(figures) = shared_scene_figures() else { return };
     let reference = [44.0, 17.0, 11.0, 28.0];
-    for ((name, paper, _), reference) in errors.iter().zip(reference) {
-        assert!(*paper > reference / 2.0 - 3.0 && *paper < 2.0 * reference, "{name}: paper {paper:.1} cm");
+    for (scene, reference) in figures.iter().zip(reference) {
+        let paper = scene.paper_mean_cm.unwrap();
+        assert!(
+            paper > reference / 2.0 - 3.0 && paper < 2.0 * reference,
+            "{}: paper {paper:.1} cm",
+            scene.name
+        );
     }
 }
 
-/// What the fused tracker reaches today on the shared scenes: the median of
-/// the scenes' mean errors within 25 cm, every scene within 35 cm.
+/// Issue 22's figures per scene, met: on every shared scene, the three hard
+/// ones too (along the line of sight, a hard shadow at the feet, a second
+/// person), the fused tracker's mean is within 8 cm and below the suit's
+/// own translation's, and at most 5 % of its frames are over 20 cm off.
 #[test]
-fn the_fused_tracker_stays_on_the_shared_scenes() {
-    let Some(errors) = shared_scene_errors() else { return };
-    let fused: Vec<f64> = errors.iter().map(|e| e.2).collect();
-    assert!(embusen::signal::stats::median(&fused) < 25.0, "{errors:?}");
-    assert!(fused.iter().all(|&e| e < 35.0), "{errors:?}");
+fn the_fused_tracker_holds_on_every_shared_scene() {
+    let Some(figures) = shared_scene_figures() else { return };
+    for scene in figures {
+        let fused = &scene.fused;
+        assert!(fused.mean_cm <= 8.0 && fused.mean_cm < scene.suit_mean_cm, "{scene:?}");
+        assert!(fused.lost_share <= 0.05, "{scene:?}");
+    }
+}
+
+/// Issue 22's figures over the scenes: the median of the scenes' means
+/// within 4 cm and of their p90s within 8 cm.
+#[test]
+#[ignore = "issue 22 acceptance, not met yet: medians 4.9 / 9.4 cm (see docs/track.md); `-- --ignored` prints the figures"]
+fn the_fused_tracker_meets_the_medians_over_the_shared_scenes() {
+    let Some(figures) = shared_scene_figures() else { return };
+    let median = |get: fn(&SceneFigures) -> f64| {
+        embusen::signal::stats::median(&figures.iter().map(get).collect::<Vec<_>>())
+    };
+    let (means, p90s) = (median(|s| s.fused.mean_cm), median(|s| s.fused.p90_cm));
+    assert!(means <= 4.0 && p90s <= 8.0, "medians {means:.1} / {p90s:.1} cm: {figures:?}");
 }
 
 #[test]
 #[ignore = "issue 13 acceptance, not met yet: the fused tracker's depth along the line of sight (see docs/track.md); `-- --ignored` prints the figures"]
 fn the_fused_tracker_meets_the_acceptance_figures() {
-    let Some(errors) = shared_scene_errors() else { return };
-    let fused: Vec<f64> = errors.iter().map(|e| e.2).collect();
-    assert!(embusen::signal::stats::median(&fused) <= 3.0, "{errors:?}");
-    assert!(errors.iter().all(|(_, paper, fused)| fused < paper), "{errors:?}");
+    let Some(figures) = shared_scene_figures() else { return };
+    let fused: Vec<f64> = figures[..4].iter().map(|s| s.fused.mean_cm).collect();
+    assert!(embusen::signal::stats::median(&fused) <= 3.0, "{figures:?}");
+    assert!(figures[..4].iter().all(|s| s.paper_mean_cm.is_some_and(|p| s.fused.mean_cm < p)), "{figures:?}");
 }

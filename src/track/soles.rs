@@ -233,6 +233,10 @@ impl SoleView {
             return None;
         }
         lows.sort_unstable();
+        // The last foreground pixel's centre is on the sole and the edge
+        // falls before the next one's, half a row lower on average; but a
+        // blurred step of high contrast crosses the foreground's threshold
+        // early, outside the edge, by about as much. The row itself it is.
         let row = lows[lows.len() / 2] as f64;
         let seen = camera.floor_point(DVec2::new(edge.pixel.x, row))?;
         let next_row = camera.floor_point(DVec2::new(edge.pixel.x, row + 1.0))?;
@@ -542,5 +546,177 @@ pub fn bridge_flights(track: &mut [DVec2], planted: &[bool], steps_cm: &[DVec2],
             }
         }
         i = landing + 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::shape::{Anchor, ShapeSphere, Sphere};
+
+    /// A camera 150 cm up at (0, 150, −500) looking along +z, tilted down
+    /// 20°, 640×480, f = 500 px.
+    fn camera() -> Camera {
+        let tilt = 20f64.to_radians();
+        let (s, c) = tilt.sin_cos();
+        // Camera axes in the world: x right, y down, z forward.
+        let right = DVec3::X;
+        let forward = DVec3::new(0.0, -s, c);
+        let down = DVec3::new(0.0, -c, -s);
+        Camera {
+            image_size: crate::camera::ImageSize { width_px: 640, height_px: 480 },
+            intrinsics: crate::camera::Intrinsics { fx_px: 500.0, fy_px: 500.0, cx_px: 319.5, cy_px: 239.5 },
+            distortion: crate::camera::Distortion::default(),
+            camera_from_world: glam::DAffine3::from_mat3_translation(
+                glam::DMat3::from_cols(right, down, forward),
+                DVec3::new(0.0, 150.0, -500.0),
+            )
+            .inverse(),
+        }
+    }
+
+    /// A body of one planted foot: an ankle sphere 8 cm up and a toe sphere
+    /// on the floor, `toe_offset_cm` from the hips' floor point.
+    fn one_foot(toe_offset_cm: DVec2) -> (Vec<Foot>, PosedBody) {
+        let body = PosedBody {
+            spheres: vec![
+                Sphere {
+                    centre_cm: DVec3::new(toe_offset_cm.x, 8.0, toe_offset_cm.y - 15.0),
+                    radius_cm: 5.0,
+                },
+                Sphere { centre_cm: DVec3::new(toe_offset_cm.x, 4.0, toe_offset_cm.y), radius_cm: 4.0 },
+            ],
+            cones: vec![(0, 1)],
+        };
+        (vec![Foot { spheres: vec![0, 1] }], body)
+    }
+
+    /// The foreground of a foot whose sole covers the floor within `radius`
+    /// of each of `soles_cm` (floor points, cm), as `camera` sees it.
+    fn mask_of_soles(camera: &Camera, soles_cm: &[(DVec2, f64)]) -> Mask {
+        let (w, h) = (camera.image_size.width_px, camera.image_size.height_px);
+        let mut on = vec![false; (w * h) as usize];
+        for y in 0..h {
+            for x in 0..w {
+                let Some(p) = camera.floor_point(DVec2::new(x as f64, y as f64)) else { continue };
+                let p = DVec2::new(p.x, p.z);
+                on[(y * w + x) as usize] = soles_cm.iter().any(|(c, r)| p.distance(*c) <= *r);
+            }
+        }
+        Mask { width_px: w, height_px: h, on }
+    }
+
+    #[test]
+    fn a_shape_s_feet_are_its_ankles_with_their_toes() {
+        let sphere = |joint, part| ShapeSphere { anchor: Anchor::Joint(joint), radius_cm: 5.0, part };
+        let shape = BodyShape {
+            spheres: vec![
+                sphere(0, Part::Pelvis),
+                sphere(1, Part::Knee),
+                sphere(2, Part::Ankle),
+                sphere(3, Part::Toes),
+                sphere(4, Part::ToeTip),
+                sphere(5, Part::Knee),
+                sphere(6, Part::Ankle),
+                sphere(7, Part::Toes),
+            ],
+            links: vec![(0, 1), (1, 2), (2, 3), (3, 4), (0, 5), (5, 6), (6, 7)],
+            stature_cm: 170.0,
+            joint_count: 8,
+        };
+        let feet = feet_of(&shape);
+        assert_eq!(feet, [Foot { spheres: vec![2, 3, 4] }, Foot { spheres: vec![6, 7] }]);
+    }
+
+    #[test]
+    fn a_planted_sole_puts_the_hips_where_it_is_from_a_track_30_cm_off() {
+        let camera = camera();
+        let toe = DVec2::new(10.0, 20.0);
+        let (feet, body) = one_foot(toe);
+        // The hips truly at (0, 0), 5 m from the camera: the sole is there
+        // in the image.
+        let truth = DVec2::new(0.0, 0.0);
+        let soles: Vec<(DVec2, f64)> = body
+            .spheres
+            .iter()
+            .map(|s| (DVec2::new(s.centre_cm.x, s.centre_cm.z) + truth, s.radius_cm))
+            .collect();
+        let mask = mask_of_soles(&camera, &soles);
+        // The track 30 cm too far along the line of sight.
+        let off = truth + DVec2::new(0.0, 30.0);
+        let views = view_soles(&camera, &feet, &body, &mask, off);
+        assert_eq!(views.len(), 1);
+        let sighting = views[0].sight(&camera, off).unwrap();
+        let along_error = (sighting.implied_hips_cm - truth).dot(sighting.along);
+        // Within the floor's depth of one image row (3.3 cm here): the
+        // mask's pixel centres sample the edge.
+        assert!(along_error.abs() < 3.5, "{sighting:?}");
+        assert!(sighting.sigma_cm > POSE_SIGMA_CM && sighting.sigma_cm < 10.0, "{sighting:?}");
+        // A foot in the air is not sighted.
+        let lifted = PosedBody {
+            spheres: body
+                .spheres
+                .iter()
+                .map(|s| Sphere { centre_cm: s.centre_cm + DVec3::Y * 20.0, ..*s })
+                .collect(),
+            ..body.clone()
+        };
+        assert!(view_soles(&camera, &feet, &lifted, &mask, off).is_empty());
+    }
+
+    #[test]
+    fn a_track_biased_along_the_line_of_sight_is_brought_back_by_its_soles() {
+        let camera = camera();
+        let (feet, body) = one_foot(DVec2::new(10.0, 20.0));
+        let truth: Vec<DVec2> = (0..60).map(|i| DVec2::new(2.0 * i as f64, 0.0)).collect();
+        // The silhouette's track 15 cm too far along the line of sight.
+        let mut track: Vec<DVec2> = truth
+            .iter()
+            .map(|&p| {
+                let centre = camera.center_in_world();
+                p + (p - DVec2::new(centre.x, centre.z)).normalize() * 15.0
+            })
+            .collect();
+        let views: Vec<(usize, SoleView)> = truth
+            .iter()
+            .enumerate()
+            .flat_map(|(i, &p)| {
+                let soles: Vec<(DVec2, f64)> = body
+                    .spheres
+                    .iter()
+                    .map(|s| (DVec2::new(s.centre_cm.x, s.centre_cm.z) + p, s.radius_cm))
+                    .collect();
+                let mask = mask_of_soles(&camera, &soles);
+                view_soles(&camera, &feet, &body, &mask, track[i]).into_iter().map(move |v| (i, v))
+            })
+            .collect();
+        let corrections = correct_depth(&mut track, &views, &camera, 1.0 / 30.0);
+        // From 15 cm to within about a row's depth (3.3 cm here) and what
+        // the shrinking towards no correction leaves.
+        for ((p, t), (correction, sigma)) in track.iter().zip(&truth).zip(&corrections) {
+            assert!(p.distance(*t) < 4.0, "{p} against {t}, corrected by {correction:.1} ± {sigma:.1}");
+        }
+    }
+
+    #[test]
+    fn a_flight_follows_the_suit_s_steps_along_the_line_of_sight_only() {
+        let camera = camera();
+        // Standing at (0, 300) and (0, 400), ten frames in the air between
+        // them, the suit stepping 10 cm a frame along +z (the line of
+        // sight); the silhouette's track 30 cm off in the air, and 5 cm
+        // aside.
+        let mut track: Vec<DVec2> =
+            (0..12).map(|i| DVec2::new(5.0, 300.0 + 10.0 * i as f64 - 30.0)).collect();
+        track[0] = DVec2::new(0.0, 300.0);
+        track[11] = DVec2::new(0.0, 410.0);
+        let planted: Vec<bool> = (0..12).map(|i| i == 0 || i == 11).collect();
+        let steps = vec![DVec2::new(0.0, 10.0); 12];
+        bridge_flights(&mut track, &planted, &steps, 1.0 / 30.0, &camera);
+        for (i, p) in track.iter().enumerate().skip(1).take(10) {
+            let expected_z = 300.0 + 10.0 * i as f64;
+            assert!((p.y - expected_z).abs() < 1.0, "frame {i}: {p}");
+            // Across the line of sight it stays where the track had it.
+            assert!((p.x - 5.0).abs() < 0.5, "frame {i}: {p}");
+        }
     }
 }
