@@ -49,6 +49,23 @@ pub fn track_errors(track: &[DVec2], truth: &[DVec2]) -> TrackErrors {
     }
 }
 
+/// The share of frames (0 to 1) whose error against `truth` is within the
+/// uncertainty the tracker stated for it (`uncertainty_cm`, one σ, per
+/// frame; NaN: none stated); NaN when no frame has one. An honest one σ
+/// holds the truth in about two frames of three.
+pub fn share_within_uncertainty(track: &[DVec2], uncertainty_cm: &[f64], truth: &[DVec2]) -> f64 {
+    let stated: Vec<bool> = frame_errors_cm(track, truth)
+        .iter()
+        .zip(uncertainty_cm)
+        .filter(|(_, u)| u.is_finite())
+        .map(|(e, u)| e <= u)
+        .collect();
+    if stated.is_empty() {
+        return f64::NAN;
+    }
+    stated.iter().filter(|&&within| within).count() as f64 / stated.len() as f64
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -66,5 +83,9 @@ mod tests {
         assert!((e.p90_cm - 24.3).abs() < 1e-12);
         assert_eq!(e.lost_share, 0.3);
         assert!(track_errors(&[], &[]).mean_cm.is_nan());
+        // Errors 0, 3, 6, … 27 cm against a stated 10 cm: 4 of 10 within.
+        let within = share_within_uncertainty(&track, &[10.0; 10], &truth);
+        assert_eq!(within, 0.4);
+        assert!(share_within_uncertainty(&track, &[f64::NAN; 10], &truth).is_nan());
     }
 }

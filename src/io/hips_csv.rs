@@ -1,6 +1,7 @@
 //! The hips' path as CSV: the shared data's `NAME.truth.csv`
 //! (`time_s,hips_x_cm,hips_y_cm,hips_z_cm`, one row per video frame) and the
-//! camera tracker's output, which adds `frame` first and `confidence` last.
+//! camera tracker's output, which adds `frame` first, and `confidence` and
+//! `uncertainty_cm` last.
 //! Columns are found by their header names, in any order; others are
 //! ignored.
 
@@ -16,6 +17,10 @@ pub struct HipsSample {
     /// How far the tracker trusts the camera in this frame, 0 to 1; `None`
     /// in a file without the column (a truth).
     pub confidence: Option<f64>,
+    /// How far (cm, one σ) the tracker says the hips may be from where it
+    /// put them on the floor; `None` where it does not say (a truth, the
+    /// paper's tracker, a frame without a pose: an empty cell).
+    pub uncertainty_cm: Option<f64>,
 }
 
 /// The columns every hips file has.
@@ -38,6 +43,7 @@ pub fn parse_hips_csv(text: &str, file_name: &str) -> Result<Vec<HipsSample>, Er
             .ok_or_else(|| Error::at(file_name, 1, 1, format!("the header has no `{name}` column")))?;
     }
     let confidence = column("confidence");
+    let uncertainty = column("uncertainty_cm");
     let mut samples = Vec::new();
     for (index, line) in lines {
         let cells: Vec<&str> = line.split(',').collect();
@@ -65,25 +71,33 @@ pub fn parse_hips_csv(text: &str, file_name: &str) -> Result<Vec<HipsSample>, Er
             time_s: number(t, "time_s")?,
             hips_cm: DVec3::new(number(x, "hips_x_cm")?, number(y, "hips_y_cm")?, number(z, "hips_z_cm")?),
             confidence: confidence.map(|c| number(c, "confidence")).transpose()?,
+            uncertainty_cm: match uncertainty {
+                Some(c) if cells.get(c).is_some_and(|cell| !cell.trim().is_empty()) => {
+                    Some(number(c, "uncertainty_cm")?)
+                }
+                _ => None,
+            },
         });
     }
     Ok(samples)
 }
 
 /// The tracker's CSV: a header and one row per frame, `frame, time_s,
-/// hips_x_cm, hips_y_cm, hips_z_cm, confidence`, positions to 0.1 mm and
-/// times to 1 µs (the same bytes on every machine).
+/// hips_x_cm, hips_y_cm, hips_z_cm, confidence, uncertainty_cm`, positions
+/// to 0.1 mm, times to 1 µs, the uncertainty to 1 mm or empty (the same
+/// bytes on every machine).
 pub fn format_hips_csv(samples: &[HipsSample]) -> String {
-    let mut text = String::from("frame,time_s,hips_x_cm,hips_y_cm,hips_z_cm,confidence\n");
+    let mut text = String::from("frame,time_s,hips_x_cm,hips_y_cm,hips_z_cm,confidence,uncertainty_cm\n");
     for (frame, s) in samples.iter().enumerate() {
         let p = s.hips_cm;
         text += &format!(
-            "{frame},{:.6},{:.4},{:.4},{:.4},{:.3}\n",
+            "{frame},{:.6},{:.4},{:.4},{:.4},{:.3},{}\n",
             s.time_s,
             p.x,
             p.y,
             p.z,
-            s.confidence.unwrap_or(0.0)
+            s.confidence.unwrap_or(0.0),
+            s.uncertainty_cm.map_or(String::new(), |u| format!("{u:.1}"))
         );
     }
     text
@@ -103,7 +117,15 @@ mod tests {
         let tracked: Vec<HipsSample> =
             samples.iter().map(|s| HipsSample { confidence: Some(0.5), ..*s }).collect();
         let text = format_hips_csv(&tracked);
-        assert!(text.starts_with("frame,time_s,hips_x_cm,hips_y_cm,hips_z_cm,confidence\n0,0.000000,"));
+        assert!(text.starts_with(
+            "frame,time_s,hips_x_cm,hips_y_cm,hips_z_cm,confidence,uncertainty_cm\n0,0.000000,"
+        ));
+        assert_eq!(parse_hips_csv(&text, "o.csv").unwrap(), tracked);
+        let stated: Vec<HipsSample> =
+            tracked.iter().map(|s| HipsSample { uncertainty_cm: Some(4.5), ..*s }).collect();
+        let text = format_hips_csv(&stated);
+        assert!(text.lines().nth(1).unwrap().ends_with(",0.500,4.5"), "{text}");
+        assert_eq!(parse_hips_csv(&text, "o.csv").unwrap(), stated);
         assert_eq!(parse_hips_csv(&text, "o.csv").unwrap(), tracked);
     }
 

@@ -322,11 +322,12 @@ impl FusedTracker {
         }
     }
 
-    /// The smoothed path (`None` when no frame had a pose: the frames stay
-    /// as they were), the filter's mean squared innovation, and what the
-    /// user should know: deferred path energies that never came count as a
-    /// fit not believed.
-    pub fn finish(mut self, dt_s: f64) -> (Option<Vec<DVec2>>, f64, Vec<String>) {
+    /// The smoothed path with each frame's uncertainty (cm, one σ: the
+    /// smoother's, and that of the depth the soles corrected) (`None` when
+    /// no frame had a pose: the frames stay as they were), the filter's
+    /// mean squared innovation, and what the user should know: deferred
+    /// path energies that never came count as a fit not believed.
+    pub fn finish(mut self, dt_s: f64) -> (Option<Vec<(DVec2, f64)>>, f64, Vec<String>) {
         let mut warnings = Vec::new();
         let never_came = self.path.give_up_pending();
         if never_came > 0 {
@@ -342,19 +343,24 @@ impl FusedTracker {
             dt_s,
             reacquire_after_frames(params, dt_s),
         );
-        let mut smoothed: Vec<DVec2> =
-            searched.as_ref().unwrap_or(filter).smooth().into_iter().map(|(p, _)| p).collect();
+        let (mut smoothed, covariances): (Vec<DVec2>, Vec<DMat2>) =
+            searched.as_ref().unwrap_or(filter).smooth().into_iter().unzip();
+        let mut variances: Vec<f64> = covariances.iter().map(|c| c.x_axis.x + c.y_axis.y).collect();
         let first = self.first_filtered.unwrap_or(0);
         if let Some(camera) = &self.camera {
             let soles: Vec<(usize, SoleView)> =
                 self.soles.drain(..).filter_map(|(i, v)| i.checked_sub(first).map(|k| (k, v))).collect();
-            correct_depth(&mut smoothed, &soles, camera, dt_s);
+            let corrections = correct_depth(&mut smoothed, &soles, camera, dt_s);
+            for (variance, (_, sigma_cm)) in variances.iter_mut().zip(corrections) {
+                *variance += sigma_cm * sigma_cm;
+            }
             let (planted, steps_cm) = (self.planted.get(first..), self.steps_cm.get(first..));
             if let (Some(planted), Some(steps_cm)) = (planted, steps_cm) {
                 bridge_flights(&mut smoothed, planted, steps_cm, dt_s, camera);
             }
         }
-        (Some(smoothed), filter.mean_innovation(), warnings)
+        let path = smoothed.into_iter().zip(variances).map(|(p, v)| (p, v.sqrt())).collect();
+        (Some(path), filter.mean_innovation(), warnings)
     }
 }
 

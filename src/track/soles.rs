@@ -478,8 +478,12 @@ fn bias_corrections(
         }
         let estimate = kept.iter().map(|k| k.0 * k.1).sum::<f64>() / weight;
         // Sightings within a stance share their error: the information is
-        // the weight over how many frames a stance spans.
-        let variance = per_stance / weight;
+        // the weight over how many frames a stance spans. Where they scatter
+        // more than their σ say (a shadow under the feet, a pose further
+        // off), the estimate is as much less certain.
+        let scatter = kept.iter().map(|k| k.1 * (k.0 - estimate).powi(2)).sum::<f64>() / weight;
+        let stated = kept.iter().map(|k| k.1 * k.2 * k.2).sum::<f64>() / weight;
+        let variance = per_stance / weight * (scatter / stated).max(1.0);
         let gain = prior / (prior + variance);
         let correction = gain * estimate;
         *p += (*p - camera_floor_cm).normalize_or_zero() * correction;

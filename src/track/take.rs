@@ -137,6 +137,7 @@ fn track_samples(track: &Track) -> Vec<HipsSample> {
             time_s: f.time_s,
             hips_cm: DVec3::new(f.floor_cm.x, f.height_cm, f.floor_cm.y),
             confidence: Some(f.confidence),
+            uncertainty_cm: f.uncertainty_cm.is_finite().then_some(f.uncertainty_cm),
         })
         .collect()
 }

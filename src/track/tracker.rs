@@ -86,6 +86,10 @@ pub struct TrackedFrame {
     pub confidence: f64,
     /// The camera's own measurement before smoothing, where one was used.
     pub measured_cm: Option<DVec2>,
+    /// How far (cm, one σ) the hips may be from `floor_cm`, as the fused
+    /// tracker weighs its evidence; NaN where it is not stated (the
+    /// paper's tracker, a frame without a pose).
+    pub uncertainty_cm: f64,
 }
 
 /// What one tracker says of a whole track beyond its frames.
@@ -245,19 +249,25 @@ impl Tracker {
             TrackerState::Paper(paper) => {
                 let params = paper.params();
                 let (smoothed, candidates) = paper.finish();
+                // The paper states no uncertainty.
+                let smoothed = smoothed.into_iter().map(|p| (p, f64::NAN)).collect();
                 (smoothed, Vec::new(), TrackDetails::Paper { params, candidates })
             }
             TrackerState::Fused(fused) => {
                 let params = fused.params();
                 let (smoothed, mean_innovation, warnings) = fused.finish(1.0 / self.setup.timing.fps);
-                let smoothed = smoothed.unwrap_or_else(|| frames.iter().map(|f| f.floor_cm).collect());
+                let smoothed: Vec<(DVec2, f64)> =
+                    smoothed.unwrap_or_else(|| frames.iter().map(|f| (f.floor_cm, f64::NAN)).collect());
                 (smoothed, warnings, TrackDetails::Fused { params, mean_innovation })
             }
         };
         // The filter starts at the first frame with a pose: align the ends.
         let offset = frames.len().saturating_sub(smoothed.len());
-        for (frame, p) in frames.iter_mut().skip(offset).zip(smoothed) {
+        for (frame, (p, uncertainty_cm)) in frames.iter_mut().skip(offset).zip(smoothed) {
             frame.floor_cm = p;
+            if frame.height_cm.is_finite() {
+                frame.uncertainty_cm = uncertainty_cm;
+            }
         }
         // A frame without a pose has no height; one the camera did not see
         // has no confidence.
@@ -284,7 +294,7 @@ impl Tracker {
 /// floor, where a tracker put it.
 fn tracked_frame(time_s: f64, height_cm: f64, estimate: FrameEstimate) -> TrackedFrame {
     let FrameEstimate { floor_cm, confidence, measured_cm } = estimate;
-    TrackedFrame { time_s, floor_cm, height_cm, confidence, measured_cm }
+    TrackedFrame { time_s, floor_cm, height_cm, confidence, measured_cm, uncertainty_cm: f64::NAN }
 }
 
 /// The frames where `flags` holds, as ranges: `3–7, 12, 40–41`.

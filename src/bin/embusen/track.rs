@@ -8,7 +8,7 @@ use std::time::Instant;
 use embusen::Error;
 use embusen::app::tracking::{Background, TakeInputs, TrackingJob, VideoDescription};
 use embusen::camera::Camera;
-use embusen::eval::track::{TrackErrors, track_errors};
+use embusen::eval::track::{TrackErrors, share_within_uncertainty, track_errors};
 use embusen::image::GreyImage;
 use embusen::image::background::MEDIAN_FRAMES;
 use embusen::io::hips_csv::parse_hips_csv;
@@ -322,6 +322,9 @@ struct SceneRow {
     method: &'static str,
     errors: TrackErrors,
     ms_per_frame: f64,
+    /// The share of frames within the uncertainty the tracker stated (NaN:
+    /// none stated).
+    within_uncertainty: f64,
 }
 
 pub fn run_eval_track(args: &EvalTrackArgs) -> ExitCode {
@@ -397,6 +400,7 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
             method: "suit",
             errors: track_errors(&suit_floor, &truth_floor),
             ms_per_frame: 0.0,
+            within_uncertainty: f64::NAN,
         });
         let room =
             background(background_still.is_file().then_some(background_still.as_path()), &video, None)?;
@@ -411,11 +415,13 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
             let (_, ms_per_frame, _) = run_job(&mut job, &mut frames, false)?;
             let Some(track) = job.track() else { continue };
             let floor: Vec<DVec2> = track.frames.iter().map(|f| f.floor_cm).collect();
+            let uncertainty: Vec<f64> = track.frames.iter().map(|f| f.uncertainty_cm).collect();
             let row = SceneRow {
                 scene: name.clone(),
                 method: track.method().name(),
                 errors: track_errors(&floor, &truth_floor),
                 ms_per_frame,
+                within_uncertainty: share_within_uncertainty(&floor, &uncertainty, &truth_floor),
             };
             print_row(&row);
             rows.push(row);
@@ -438,6 +444,7 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
                 method: "oracle",
                 errors: track_errors(&floor, &truth_floor),
                 ms_per_frame: 1e3 * started.elapsed().as_secs_f64() / floor.len().max(1) as f64,
+                within_uncertainty: f64::NAN,
             };
             print_row(&row);
             rows.push(row);
@@ -445,8 +452,8 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
     }
     println!();
     println!(
-        "{:<12} {:<6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>9}",
-        "scene", "method", "mean cm", "median", "p90", "max", "final", ">20 cm", "ms/frame"
+        "{:<12} {:<6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>9} {:>7}",
+        "scene", "method", "mean cm", "median", "p90", "max", "final", ">20 cm", "ms/frame", "in 1σ"
     );
     for row in &rows {
         print_row(row);
@@ -467,11 +474,13 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
             lost_share: m(|e| e.lost_share),
         };
         let ms = median(&of.iter().map(|r| r.ms_per_frame).collect::<Vec<_>>());
+        let within = median(&of.iter().map(|r| r.within_uncertainty).collect::<Vec<_>>());
         print_row(&SceneRow {
             scene: "median".into(),
             method: of.first().map_or("?", |r| r.method),
             errors,
             ms_per_frame: ms,
+            within_uncertainty: within,
         });
     }
     Ok(())
@@ -480,7 +489,7 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
 fn print_row(row: &SceneRow) {
     let e = &row.errors;
     println!(
-        "{:<12} {:<6} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>7.1}% {:>9.2}",
+        "{:<12} {:<6} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>7.1}% {:>9.2} {:>7}",
         row.scene,
         row.method,
         e.mean_cm,
@@ -489,6 +498,11 @@ fn print_row(row: &SceneRow) {
         e.max_cm,
         e.final_cm,
         100.0 * e.lost_share,
-        row.ms_per_frame
+        row.ms_per_frame,
+        if row.within_uncertainty.is_finite() {
+            format!("{:.1}%", 100.0 * row.within_uncertainty)
+        } else {
+            "—".to_string()
+        }
     );
 }
