@@ -166,6 +166,15 @@ struct Measured {
     across_variance_cm2: Option<f64>,
 }
 
+/// A frame of the fused tracker's finished path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SmoothedFrame {
+    /// Where the hips are on the floor (x, z, cm).
+    pub floor_cm: DVec2,
+    /// How far they may be from there (cm, one σ).
+    pub uncertainty_cm: f64,
+}
+
 /// The fused tracker in the middle of a video.
 pub struct FusedTracker {
     params: FusedParams,
@@ -327,7 +336,7 @@ impl FusedTracker {
     /// no frame had a pose: the frames stay as they were), the filter's
     /// mean squared innovation, and what the user should know: deferred
     /// path energies that never came count as a fit not believed.
-    pub fn finish(mut self, dt_s: f64) -> (Option<Vec<(DVec2, f64)>>, f64, Vec<String>) {
+    pub fn finish(mut self, dt_s: f64) -> (Option<Vec<SmoothedFrame>>, f64, Vec<String>) {
         let mut warnings = Vec::new();
         let never_came = self.path.give_up_pending();
         if never_came > 0 {
@@ -359,7 +368,11 @@ impl FusedTracker {
                 bridge_flights(&mut smoothed, planted, steps_cm, dt_s, camera);
             }
         }
-        let path = smoothed.into_iter().zip(variances).map(|(p, v)| (p, v.sqrt())).collect();
+        let path = smoothed
+            .into_iter()
+            .zip(variances)
+            .map(|(floor_cm, v)| SmoothedFrame { floor_cm, uncertainty_cm: v.sqrt() })
+            .collect();
         (Some(path), filter.mean_innovation(), warnings)
     }
 }

@@ -14,7 +14,7 @@ use glam::{DVec2, DVec3};
 use crate::error::Error;
 use crate::image::GreyImage;
 use crate::track::energy::Scorer;
-use crate::track::fused::{FusedParams, FusedTracker};
+use crate::track::fused::{FusedParams, FusedTracker, SmoothedFrame};
 use crate::track::path::PathRequest;
 use crate::track::riecicky::{RiecickyParams, RiecickyTracker};
 use crate::track::setup::{FrameEstimate, TrackSetup};
@@ -250,23 +250,30 @@ impl Tracker {
                 let params = paper.params();
                 let (smoothed, candidates) = paper.finish();
                 // The paper states no uncertainty.
-                let smoothed = smoothed.into_iter().map(|p| (p, f64::NAN)).collect();
+                let smoothed = smoothed
+                    .into_iter()
+                    .map(|floor_cm| SmoothedFrame { floor_cm, uncertainty_cm: f64::NAN })
+                    .collect();
                 (smoothed, Vec::new(), TrackDetails::Paper { params, candidates })
             }
             TrackerState::Fused(fused) => {
                 let params = fused.params();
                 let (smoothed, mean_innovation, warnings) = fused.finish(1.0 / self.setup.timing.fps);
-                let smoothed: Vec<(DVec2, f64)> =
-                    smoothed.unwrap_or_else(|| frames.iter().map(|f| (f.floor_cm, f64::NAN)).collect());
+                let smoothed: Vec<SmoothedFrame> = smoothed.unwrap_or_else(|| {
+                    frames
+                        .iter()
+                        .map(|f| SmoothedFrame { floor_cm: f.floor_cm, uncertainty_cm: f64::NAN })
+                        .collect()
+                });
                 (smoothed, warnings, TrackDetails::Fused { params, mean_innovation })
             }
         };
         // The filter starts at the first frame with a pose: align the ends.
         let offset = frames.len().saturating_sub(smoothed.len());
-        for (frame, (p, uncertainty_cm)) in frames.iter_mut().skip(offset).zip(smoothed) {
-            frame.floor_cm = p;
+        for (frame, smoothed) in frames.iter_mut().skip(offset).zip(smoothed) {
+            frame.floor_cm = smoothed.floor_cm;
             if frame.height_cm.is_finite() {
-                frame.uncertainty_cm = uncertainty_cm;
+                frame.uncertainty_cm = smoothed.uncertainty_cm;
             }
         }
         // A frame without a pose has no height; one the camera did not see
