@@ -245,23 +245,24 @@ impl FusedTracker {
         self.path.next_frame();
         let params = &self.params;
         let pipeline_truncate_px = setup.pipeline.truncate_px;
-        let Some(filter) = &mut self.filter else {
-            // The first frame is searched for over the whole image.
-            return FusedPrediction {
-                predicted: None,
-                before_cm: None,
-                step_cm: DVec2::ZERO,
-                step_sigma_cm: f64::INFINITY,
-                truncate_px: pipeline_truncate_px,
-            };
-        };
-        let before_cm = Some(filter.current().0);
         let before = setup.suit.instant(setup.timing.bvh_time_s(i.saturating_sub(1)));
         let path = &setup.suit.inertial_floor_cm;
         let step_cm = match (SuitMotion::floor_at(path, before), SuitMotion::floor_at(path, instant)) {
             (Some(a), Some(b)) => b - a,
             _ => DVec2::ZERO,
         };
+        let Some(filter) = &mut self.filter else {
+            // Until a first fit, each frame is searched for over the whole
+            // image.
+            return FusedPrediction {
+                predicted: None,
+                before_cm: None,
+                step_cm,
+                step_sigma_cm: f64::INFINITY,
+                truncate_px: pipeline_truncate_px,
+            };
+        };
+        let before_cm = Some(filter.current().0);
         let dt = 1.0 / setup.timing.fps;
         let step_sigma_cm = params.stride_error * step_cm.length() + params.drift_cm_per_s * dt;
         let (predicted, covariance) = filter.predict(step_cm, step_sigma_cm);
@@ -301,6 +302,16 @@ impl FusedTracker {
         let reacquire_after = reacquire_after_frames(&params, dt);
         let read = self.frames_read;
         self.frames_read += 1;
+        let believable = fit.is_some_and(|(_, fit)| fit.confidence() >= params.min_confidence);
+        if self.filter.is_none() && !believable {
+            // No one seen yet (the actor not yet in view): nothing to start
+            // the path from. The frame is placed back from the first fit
+            // by the suit's steps once there is one.
+            self.planted.push(false);
+            self.steps_cm.push(prediction.step_cm);
+            self.path.push(None, None);
+            return FrameEstimate { floor_cm: prediction_cm, confidence: 0.0, measured_cm: None };
+        }
         self.first_filtered.get_or_insert(read);
         let filter = self
             .filter
@@ -368,12 +379,37 @@ impl FusedTracker {
                 bridge_flights(&mut smoothed, planted, steps_cm, dt_s, camera);
             }
         }
-        let path = smoothed
+        let mut path: Vec<SmoothedFrame> = smoothed
             .into_iter()
             .zip(variances)
             .map(|(floor_cm, v)| SmoothedFrame { floor_cm, uncertainty_cm: v.sqrt() })
             .collect();
+        let before_first = self.back_from_first_fit(path.first().copied(), first, dt_s);
+        path.splice(0..0, before_first);
         (Some(path), filter.mean_innovation(), warnings)
+    }
+
+    /// The frames read before the first fit (`first` of them), placed back
+    /// from it (`first_fit`) by the suit's steps, as uncertain as those
+    /// steps are.
+    fn back_from_first_fit(
+        &self,
+        first_fit: Option<SmoothedFrame>,
+        first: usize,
+        dt_s: f64,
+    ) -> Vec<SmoothedFrame> {
+        let Some(mut at) = first_fit else { return Vec::new() };
+        let mut before = vec![at; first];
+        for k in (0..first).rev() {
+            let step = self.steps_cm.get(k + 1).copied().unwrap_or(DVec2::ZERO);
+            let sigma = self.params.stride_error * step.length() + self.params.drift_cm_per_s * dt_s;
+            at = SmoothedFrame {
+                floor_cm: at.floor_cm - step,
+                uncertainty_cm: at.uncertainty_cm.hypot(sigma),
+            };
+            before[k] = at;
+        }
+        before
     }
 }
 
@@ -473,7 +509,10 @@ impl<'a> FrameScoring<'a> {
         i: usize,
     ) -> (PathRecord, Option<PathRequest>) {
         let params = self.params;
-        let base = measured.measured_cm.or(measured.fit_cm).unwrap_or(measured.prediction_cm);
+        // A fit not believed (no one in view) is anywhere: the line goes
+        // through the prediction, or the path would be tied to it.
+        let believed_fit = measured.fit_cm.filter(|_| measured.believable);
+        let base = measured.measured_cm.or(believed_fit).unwrap_or(measured.prediction_cm);
         let along = line_of_sight(&self.camera, base);
         let steps = (params.path_reach_cm / params.path_spacing_cm).round() as i32;
         let candidates_cm: Vec<DVec2> =

@@ -90,6 +90,12 @@ pub struct TrackedFrame {
     /// tracker weighs its evidence; NaN where it is not stated (the
     /// paper's tracker, a frame without a pose).
     pub uncertainty_cm: f64,
+    /// The share of the image that differs from the background (0 to 1;
+    /// NaN where the frame was not read, having no pose).
+    pub foreground_share: f64,
+    /// The noise measured on the frame's difference to the background
+    /// (grey levels, one σ; NaN where not read).
+    pub difference_noise: f64,
 }
 
 /// What one tracker says of a whole track beyond its frames.
@@ -226,18 +232,24 @@ impl Tracker {
         };
         let height_cm = body_cm[setup.suit.hips].y;
         let body = setup.shape.pose(&body_cm, DVec3::ZERO)?;
-        let estimate = match state {
+        let (estimate, foreground) = match state {
             TrackerState::Paper(paper) => {
                 let features = setup.features(frame, setup.pipeline.truncate_px, &label)?;
-                paper.frame(scorer, &body, &features)
+                (paper.frame(scorer, &body, &features), features)
             }
             TrackerState::Fused(fused) => {
                 let prediction = fused.predict(setup, instant, i);
                 let features = setup.features(frame, prediction.truncate_px, &label)?;
-                fused.frame(setup, scorer, &body, &features, &prediction, i)
+                (fused.frame(setup, scorer, &body, &features, &prediction, i), features)
             }
         };
-        frames.push(tracked_frame(time_s, height_cm, estimate));
+        let mask = &foreground.foreground;
+        let foreground_share = mask.on.iter().filter(|&&on| on).count() as f64 / mask.on.len().max(1) as f64;
+        frames.push(TrackedFrame {
+            foreground_share,
+            difference_noise: foreground.noise_sd as f64,
+            ..tracked_frame(time_s, height_cm, estimate)
+        });
         Ok(&frames[i])
     }
 
@@ -283,6 +295,7 @@ impl Tracker {
             warnings
                 .push(format!("{without_pose} video frames have no pose in the BVH (outside its time span)"));
         }
+        warnings.extend(foreground_warnings(&frames));
         let unseen: Vec<bool> =
             frames.iter().map(|f| f.confidence == 0.0 && f.height_cm.is_finite()).collect();
         let unseen_count = unseen.iter().filter(|&&u| u).count();
@@ -301,7 +314,69 @@ impl Tracker {
 /// floor, where a tracker put it.
 fn tracked_frame(time_s: f64, height_cm: f64, estimate: FrameEstimate) -> TrackedFrame {
     let FrameEstimate { floor_cm, confidence, measured_cm } = estimate;
-    TrackedFrame { time_s, floor_cm, height_cm, confidence, measured_cm, uncertainty_cm: f64::NAN }
+    TrackedFrame {
+        time_s,
+        floor_cm,
+        height_cm,
+        confidence,
+        measured_cm,
+        uncertainty_cm: f64::NAN,
+        foreground_share: f64::NAN,
+        difference_noise: f64::NAN,
+    }
+}
+
+/// More of the image than this differing from the background is not an
+/// actor: a body covers half a 4:3 image only within about a metre of the
+/// camera, where its feet are out of view anyway.
+pub const MISMATCHED_BACKGROUND_SHARE: f64 = 0.5;
+
+/// A difference to the background noisier than this (grey levels, one σ)
+/// is the scene, not the sensor: a camera's noise and its codec's are 1–4
+/// levels, and the foreground threshold, measured on the difference,
+/// follows the noise up until nothing is foreground.
+pub const MISMATCHED_BACKGROUND_NOISE: f64 = 8.0;
+
+/// Less than this (a few pixels in a thousand: the noise's specks left
+/// after opening) is no one in view.
+pub const EMPTY_ROOM_SHARE: f64 = 0.001;
+
+/// What the foreground says of a take: frames where the background does
+/// not match (most of the image differs: a still from another camera
+/// position, the light changed, the camera moved), and frames where no one
+/// is in view (the actor not yet in, or gone out and back), each with
+/// their ranges.
+fn foreground_warnings(frames: &[TrackedFrame]) -> Vec<String> {
+    let mut warnings = Vec::new();
+    let mismatched: Vec<bool> = frames
+        .iter()
+        .map(|f| {
+            f.foreground_share > MISMATCHED_BACKGROUND_SHARE
+                || f.difference_noise > MISMATCHED_BACKGROUND_NOISE
+        })
+        .collect();
+    let count = mismatched.iter().filter(|&&m| m).count();
+    if count > 0 {
+        warnings.push(format!(
+            "the background does not match video frames {} ({count} of {}): most of each differs from it — was the still taken from another camera position, or did the light change?",
+            frame_ranges(&mismatched),
+            frames.len()
+        ));
+    }
+    let empty: Vec<bool> = frames
+        .iter()
+        .zip(&mismatched)
+        .map(|(f, &mismatched)| !mismatched && f.foreground_share < EMPTY_ROOM_SHARE)
+        .collect();
+    let count = empty.iter().filter(|&&e| e).count();
+    if count > 0 {
+        warnings.push(format!(
+            "no one is in view in video frames {} ({count} of {}): nothing there differs from the background",
+            frame_ranges(&empty),
+            frames.len()
+        ));
+    }
+    warnings
 }
 
 /// The frames where `flags` holds, as ranges: `3–7, 12, 40–41`.
