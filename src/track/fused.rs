@@ -37,16 +37,15 @@ use glam::{DMat2, DVec2, DVec3};
 
 use crate::body::shape::{BodyShape, PosedBody};
 use crate::camera::Camera;
-use crate::error::Error;
-use crate::image::GreyImage;
 use crate::image::pipeline::Features;
+use crate::track::depth::{bridge_flights, correct_depth};
 use crate::track::energy::{BandedBody, FrameTerms, Scorer, SilhouetteFit};
 use crate::track::measurement::{largest_sigma_cm, measurement_covariance};
 use crate::track::path::{PathFrame, PathRecord, PathRequest, PathSearch};
 use crate::track::search::coarse_to_fine;
 use crate::track::setup::{FrameEstimate, TrackSetup};
 use crate::track::smoother::{FloorFilter, Measurement};
-use crate::track::soles::{Foot, SoleView, bridge_flights, correct_depth, feet_of, is_planted, view_soles};
+use crate::track::soles::{Foot, SoleView, feet_of, is_planted, view_soles};
 use crate::track::suit_motion::{BvhInstant, SuitMotion};
 
 /// embusen's tracker's parameters; each has its physical reason.
@@ -415,7 +414,7 @@ impl FusedTracker {
 
 /// One frame as the fused energy scores it: its terms near the
 /// prediction, the body with its band, and the scorer that renders it.
-struct FrameScoring<'a> {
+pub(crate) struct FrameScoring<'a> {
     camera: Camera,
     params: FusedParams,
     scorer: &'a mut Scorer,
@@ -424,7 +423,7 @@ struct FrameScoring<'a> {
 }
 
 impl<'a> FrameScoring<'a> {
-    fn new(
+    pub(crate) fn new(
         setup: &TrackSetup,
         params: &FusedParams,
         scorer: &'a mut Scorer,
@@ -438,7 +437,7 @@ impl<'a> FrameScoring<'a> {
     }
 
     /// The fused energy at `floor_cm`; NaN where the body is not in the image.
-    fn energy(&mut self, floor_cm: DVec2) -> f64 {
+    pub(crate) fn energy(&mut self, floor_cm: DVec2) -> f64 {
         fused_energy(self.scorer, &self.terms, &self.banded, floor_cm, &self.params)
     }
 
@@ -552,72 +551,6 @@ impl<'a> FrameScoring<'a> {
     }
 }
 
-/// Scores [`PathRequest`]s apart from the tracker, from the same frames:
-/// what the tracker would have computed, to the last bit. And, for
-/// evaluations, the camera's best near a known truth.
-pub struct PathScorer {
-    setup: TrackSetup,
-    params: FusedParams,
-    scorer: Scorer,
-}
-
-impl PathScorer {
-    /// Scores with the fused tracker's `params`.
-    pub fn new(setup: TrackSetup, params: FusedParams) -> PathScorer {
-        PathScorer { scorer: Scorer::new(&setup.camera), params, setup }
-    }
-
-    /// The fused energy (px) at each of `request`'s candidates in `frame`,
-    /// video frame `request.frame`; NaN where the body is not in the image.
-    pub fn energies(&mut self, request: &PathRequest, frame: &GreyImage) -> Result<Vec<f64>, Error> {
-        let label = format!("video frame {}", request.frame);
-        let setup = &self.setup;
-        setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
-        let Some(body) = setup.posed_body(request.frame)? else {
-            return Err(Error::whole(&label, "no pose in the BVH here: no path to score"));
-        };
-        let features = setup.features(frame, request.truncate_px, &label)?;
-        let mut scoring =
-            FrameScoring::new(setup, &self.params, &mut self.scorer, &body, &features, request.prediction_cm);
-        Ok(request.candidates_cm.iter().map(|&p| scoring.energy(p)).collect())
-    }
-
-    /// For evaluations only (a tracker knows no `around_cm`): the least of
-    /// the fused energy in video frame `i`, tried every 2 cm along the
-    /// camera's line of sight through `around_cm` within `reach_cm` of it,
-    /// and every 1 cm across within 8 cm — how close the camera alone can
-    /// place the body in that frame when the truth is known. `None` where
-    /// the BVH has no pose or the body is nowhere in the image.
-    pub fn camera_oracle(
-        &mut self,
-        frame: &GreyImage,
-        i: usize,
-        around_cm: DVec2,
-        reach_cm: f64,
-    ) -> Result<Option<DVec2>, Error> {
-        let label = format!("video frame {i}");
-        let setup = &self.setup;
-        setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
-        let Some(body) = setup.posed_body(i)? else { return Ok(None) };
-        let features = setup.features(frame, setup.pipeline.truncate_px, &label)?;
-        let mut scoring =
-            FrameScoring::new(setup, &self.params, &mut self.scorer, &body, &features, around_cm);
-        let along = line_of_sight(&setup.camera, around_cm);
-        let steps = (reach_cm / 2.0).ceil() as i32;
-        let mut best: Option<(DVec2, f64)> = None;
-        for a in -steps..=steps {
-            for b in -8..=8 {
-                let p = around_cm + along * (2.0 * a as f64) + along.perp() * b as f64;
-                let e = scoring.energy(p);
-                if e.is_finite() && best.is_none_or(|(_, least)| e < least) {
-                    best = Some((p, e));
-                }
-            }
-        }
-        Ok(best.map(|(p, _)| p))
-    }
-}
-
 /// Where to look for the body in the first frame: the floor below the
 /// foreground's lowest pixels (the feet stand on the floor), or the
 /// world's origin (where the board is, and where the paper has the actor
@@ -709,7 +642,7 @@ fn fused_truncation_px(camera: &Camera, params: &FusedParams, near_cm: DVec2) ->
 
 /// The direction on the floor (x, z) of the camera's line of sight through
 /// `floor_cm`: from below the camera's centre towards it.
-fn line_of_sight(camera: &Camera, floor_cm: DVec2) -> DVec2 {
+pub(crate) fn line_of_sight(camera: &Camera, floor_cm: DVec2) -> DVec2 {
     let centre = camera.center_in_world();
     (floor_cm - DVec2::new(centre.x, centre.z)).normalize_or(DVec2::X)
 }

@@ -4,18 +4,21 @@
 //! al.'s as published ([`riecicky`]) or embusen's ([`fused`]: the contact
 //! method's floor path predicts, [`smoother`] weighs it against the camera,
 //! [`path`] searches the whole path along the lines of sight,
-//! [`soles`] takes the depth from the planted feet). Both score a
+//! [`soles`] sees the planted feet, [`depth`] takes the path's depth
+//! from them; [`path_scorer`] scores the path's energies apart). Both score a
 //! body's silhouette ([`silhouette`], rendered on the CPU from
 //! `body::shape`) against the frame ([`energy`]); [`take`] makes a take
 //! and writes its track, [`offset`] finds the video's time offset. May
 //! import `signal`, `error`, `image`, `body`, `camera`, `io` and
 //! `translate`.
 
+pub mod depth;
 pub mod energy;
 pub mod fused;
 pub mod measurement;
 pub mod offset;
 pub mod path;
+pub mod path_scorer;
 pub mod riecicky;
 pub mod search;
 pub mod setup;

@@ -19,10 +19,9 @@
 //! foot, the other foot or a shadow may be lowest — about 10 cm (one σ)
 //! on the shared scenes, and nearly unbiased (medians of −5 to +5 cm). The
 //! silhouette's error along the line of sight is the opposite: smooth in
-//! time but biased. So once the track is smoothed, its offset along the
-//! line of sight is estimated from the sightings as a slowly varying bias
-//! (a running median over [`BIAS_WINDOW_S`], robust to the wrong
-//! sightings) and taken off.
+//! time but biased; `depth` weighs the two. A foot is kept as a
+//! [`SoleView`] (its sole and the foreground around it) and sighted from
+//! wherever the final path puts the hips.
 
 use glam::{DVec2, DVec3};
 
@@ -81,11 +80,6 @@ pub fn is_planted(foot: &Foot, body: &PosedBody) -> bool {
     lowest_cm <= PLANTED_CM
 }
 
-/// The longest a body is in the air (s): a long jump's flight lasts under
-/// a second. A longer stretch without a foot on the floor is the pose's
-/// height gone wrong, not a flight.
-pub const MAX_FLIGHT_S: f64 = 1.0;
-
 /// How far along the line of sight (cm) either side of where the track
 /// expects the sole its edge is looked for: more than the silhouette's
 /// worst bias (about 30 cm), less than a stride, so the other foot of a
@@ -102,22 +96,6 @@ pub const EDGE_SIGMA_PX: f64 = 1.5;
 /// centimetres against the hips (docs/contact.md), and the model's foot is
 /// not the actor's shoe.
 pub const POSE_SIGMA_CM: f64 = 8.0;
-
-/// The silhouette's bias along the line of sight is weighed against the
-/// sightings as a slowly changing quantity: sightings count with a
-/// Gaussian weight of this σ in time (s) — a stride or two, short against
-/// how fast the bias changes as the body turns and moves off.
-pub const BIAS_TIME_SIGMA_S: f64 = 0.5;
-
-/// One foot's sightings in consecutive frames are one pose error seen
-/// again: they count as one per this long (s), about a stance's length.
-pub const STANCE_S: f64 = 0.3;
-
-/// How far the silhouette's least may be off along the line of sight
-/// before any sighting (cm, one σ): 10–30 cm on the shared scenes
-/// (docs/track.md). A correction is the sightings' estimate shrunk towards
-/// none by how much more uncertain it is than that.
-pub const PRIOR_BIAS_SIGMA_CM: f64 = 20.0;
 
 /// One planted foot seen in a frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -400,167 +378,14 @@ fn sole_edge(camera: &Camera, sole: &[SoleSphere], hips_cm: DVec2) -> Option<Sol
     best
 }
 
-/// `track` (floor positions per frame, cm) moved along the camera's lines
-/// of sight by the bias the planted soles show: `views` (frame index into
-/// `track`, view) sighted from the track, the bias estimated and taken
-/// off, then sighted again from the corrected track (a sole looked for
-/// where the track first stood may be found at the edge of its window)
-/// and estimated once more. Per frame, each sighting's
-/// offset (how far beyond the track it puts the hips) weighs by its
-/// precision and by a Gaussian of [`BIAS_TIME_SIGMA_S`] in time; the
-/// weighted median finds the bulk, the weighted mean of the offsets within
-/// 2.5 σ of it estimates the bias, which is shrunk towards none by its
-/// uncertainty against [`PRIOR_BIAS_SIGMA_CM`] (one foot's sightings within
-/// [`STANCE_S`] counting as one). `sightings` are (frame index into
-/// `track`, sighting); frames are `dt_s` apart; the camera stands above
-/// `camera_floor_cm`. Returns each frame's correction and its uncertainty
-/// (cm along the line of sight, one σ).
-pub fn correct_depth(
-    track: &mut [DVec2],
-    views: &[(usize, SoleView)],
-    camera: &Camera,
-    dt_s: f64,
-) -> Vec<(f64, f64)> {
-    let mut corrections: Vec<(f64, f64)> = Vec::new();
-    for _ in 0..2 {
-        let sightings: Vec<(usize, SoleSighting)> = views
-            .iter()
-            .filter_map(|(i, view)| track.get(*i).and_then(|&p| view.sight(camera, p)).map(|s| (*i, s)))
-            .collect();
-        let more = bias_corrections(track, &sightings, camera, dt_s);
-        corrections = if corrections.is_empty() {
-            more
-        } else {
-            corrections.iter().zip(more).map(|(a, b)| (a.0 + b.0, b.1)).collect()
-        };
-    }
-    corrections
-}
-
-/// One round of [`correct_depth`] from `sightings`.
-fn bias_corrections(
-    track: &mut [DVec2],
-    sightings: &[(usize, SoleSighting)],
-    camera: &Camera,
-    dt_s: f64,
-) -> Vec<(f64, f64)> {
-    let centre = camera.center_in_world();
-    let camera_floor_cm = DVec2::new(centre.x, centre.z);
-    let n = track.len();
-    let offsets: Vec<(usize, f64, f64)> = sightings
-        .iter()
-        .filter(|(i, _)| *i < n)
-        .map(|&(i, s)| (i, (s.implied_hips_cm - track[i]).dot(s.along), s.sigma_cm))
-        .collect();
-    let reach = (4.0 * BIAS_TIME_SIGMA_S / dt_s).ceil() as usize;
-    let per_stance = (STANCE_S / dt_s).max(1.0);
-    let prior = PRIOR_BIAS_SIGMA_CM * PRIOR_BIAS_SIGMA_CM;
-    let mut corrections = Vec::with_capacity(n);
-    for (i, p) in track.iter_mut().enumerate() {
-        let near: Vec<(f64, f64, f64)> = offsets
-            .iter()
-            .filter(|(j, _, _)| j.abs_diff(i) <= reach)
-            .map(|&(j, offset, sigma)| {
-                let t = j.abs_diff(i) as f64 * dt_s / BIAS_TIME_SIGMA_S;
-                (offset, (-0.5 * t * t).exp() / (sigma * sigma), sigma)
-            })
-            .collect();
-        let Some(bulk) = weighted_median(&near) else {
-            corrections.push((0.0, PRIOR_BIAS_SIGMA_CM));
-            continue;
-        };
-        let kept: Vec<&(f64, f64, f64)> =
-            near.iter().filter(|(o, _, s)| (o - bulk).abs() <= 2.5 * s).collect();
-        let weight: f64 = kept.iter().map(|k| k.1).sum();
-        if weight <= 0.0 {
-            corrections.push((0.0, PRIOR_BIAS_SIGMA_CM));
-            continue;
-        }
-        let estimate = kept.iter().map(|k| k.0 * k.1).sum::<f64>() / weight;
-        // Sightings within a stance share their error: the information is
-        // the weight over how many frames a stance spans. Where they scatter
-        // more than their σ say (a shadow under the feet, a pose further
-        // off), the estimate is as much less certain.
-        let scatter = kept.iter().map(|k| k.1 * (k.0 - estimate).powi(2)).sum::<f64>() / weight;
-        let stated = kept.iter().map(|k| k.1 * k.2 * k.2).sum::<f64>() / weight;
-        let variance = per_stance / weight * (scatter / stated).max(1.0);
-        let gain = prior / (prior + variance);
-        let correction = gain * estimate;
-        *p += (*p - camera_floor_cm).normalize_or_zero() * correction;
-        corrections.push((correction, (gain * variance).sqrt()));
-    }
-    corrections
-}
-
-/// The weighted median of `(value, weight, _)`; `None` without weight.
-fn weighted_median(values: &[(f64, f64, f64)]) -> Option<f64> {
-    let total: f64 = values.iter().map(|v| v.1).sum();
-    if total <= 0.0 || !total.is_finite() {
-        return None;
-    }
-    let mut sorted: Vec<(f64, f64)> = values.iter().map(|v| (v.0, v.1)).collect();
-    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut running = 0.0;
-    for (value, weight) in sorted {
-        running += weight;
-        if running >= 0.5 * total {
-            return Some(value);
-        }
-    }
-    None
-}
-
-/// `track` (floor positions per frame, cm) through each flight — a run of
-/// frames where no foot of the suit's pose is on the floor (`planted`
-/// false), no longer than [`MAX_FLIGHT_S`], with a planted frame on either
-/// side — replaced along the camera's line of sight by the suit's own
-/// steps (`steps_cm`, per frame, into it) from the take-off, their drift
-/// spread evenly to meet the landing. In the air the body's height is the
-/// contact method's guess, and a body placed too high fits the image best
-/// nearer the camera (docs/track.md, "Height"): the silhouette's depth is
-/// worst exactly there, where the sole's sightings, which anchor both
-/// ends, are missing. Across `camera`'s line of sight the track stays.
-pub fn bridge_flights(track: &mut [DVec2], planted: &[bool], steps_cm: &[DVec2], dt_s: f64, camera: &Camera) {
-    let centre = camera.center_in_world();
-    let camera_floor_cm = DVec2::new(centre.x, centre.z);
-    let n = track.len().min(planted.len()).min(steps_cm.len());
-    let longest = (MAX_FLIGHT_S / dt_s).round() as usize;
-    let mut i = 1;
-    while i < n {
-        if planted[i] || !planted[i - 1] {
-            i += 1;
-            continue;
-        }
-        let (take_off, mut landing) = (i - 1, i);
-        while landing < n && !planted[landing] {
-            landing += 1;
-        }
-        if landing < n && landing - take_off - 1 <= longest {
-            let mut flown = vec![DVec2::ZERO; landing - take_off + 1];
-            for k in 1..flown.len() {
-                flown[k] = flown[k - 1] + steps_cm[take_off + k];
-            }
-            let drift = track[landing] - track[take_off] - flown[flown.len() - 1];
-            for k in 1..flown.len() - 1 {
-                let share = k as f64 / (flown.len() - 1) as f64;
-                let bridged = track[take_off] + flown[k] + drift * share;
-                let p = &mut track[take_off + k];
-                let along = (*p - camera_floor_cm).normalize_or_zero();
-                *p += along * (bridged - *p).dot(along);
-            }
-        }
-        i = landing + 1;
-    }
-}
-
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::body::shape::{Anchor, ShapeSphere, Sphere};
 
     /// A camera 150 cm up at (0, 150, −500) looking along +z, tilted down
     /// 20°, 640×480, f = 500 px.
-    fn camera() -> Camera {
+    pub(crate) fn camera() -> Camera {
         let tilt = 20f64.to_radians();
         let (s, c) = tilt.sin_cos();
         // Camera axes in the world: x right, y down, z forward.
@@ -581,7 +406,7 @@ mod tests {
 
     /// A body of one planted foot: an ankle sphere 8 cm up and a toe sphere
     /// on the floor, `toe_offset_cm` from the hips' floor point.
-    fn one_foot(toe_offset_cm: DVec2) -> (Vec<Foot>, PosedBody) {
+    pub(crate) fn one_foot(toe_offset_cm: DVec2) -> (Vec<Foot>, PosedBody) {
         let body = PosedBody {
             spheres: vec![
                 Sphere {
@@ -597,7 +422,7 @@ mod tests {
 
     /// The foreground of a foot whose sole covers the floor within `radius`
     /// of each of `soles_cm` (floor points, cm), as `camera` sees it.
-    fn mask_of_soles(camera: &Camera, soles_cm: &[(DVec2, f64)]) -> Mask {
+    pub(crate) fn mask_of_soles(camera: &Camera, soles_cm: &[(DVec2, f64)]) -> Mask {
         let (w, h) = (camera.image_size.width_px, camera.image_size.height_px);
         let mut on = vec![false; (w * h) as usize];
         for y in 0..h {
@@ -666,61 +491,5 @@ mod tests {
             ..body.clone()
         };
         assert!(view_soles(&camera, &feet, &lifted, &mask, off).is_empty());
-    }
-
-    #[test]
-    fn a_track_biased_along_the_line_of_sight_is_brought_back_by_its_soles() {
-        let camera = camera();
-        let (feet, body) = one_foot(DVec2::new(10.0, 20.0));
-        let truth: Vec<DVec2> = (0..60).map(|i| DVec2::new(2.0 * i as f64, 0.0)).collect();
-        // The silhouette's track 15 cm too far along the line of sight.
-        let mut track: Vec<DVec2> = truth
-            .iter()
-            .map(|&p| {
-                let centre = camera.center_in_world();
-                p + (p - DVec2::new(centre.x, centre.z)).normalize() * 15.0
-            })
-            .collect();
-        let views: Vec<(usize, SoleView)> = truth
-            .iter()
-            .enumerate()
-            .flat_map(|(i, &p)| {
-                let soles: Vec<(DVec2, f64)> = body
-                    .spheres
-                    .iter()
-                    .map(|s| (DVec2::new(s.centre_cm.x, s.centre_cm.z) + p, s.radius_cm))
-                    .collect();
-                let mask = mask_of_soles(&camera, &soles);
-                view_soles(&camera, &feet, &body, &mask, track[i]).into_iter().map(move |v| (i, v))
-            })
-            .collect();
-        let corrections = correct_depth(&mut track, &views, &camera, 1.0 / 30.0);
-        // From 15 cm to within about a row's depth (3.3 cm here) and what
-        // the shrinking towards no correction leaves.
-        for ((p, t), (correction, sigma)) in track.iter().zip(&truth).zip(&corrections) {
-            assert!(p.distance(*t) < 4.0, "{p} against {t}, corrected by {correction:.1} ± {sigma:.1}");
-        }
-    }
-
-    #[test]
-    fn a_flight_follows_the_suit_s_steps_along_the_line_of_sight_only() {
-        let camera = camera();
-        // Standing at (0, 300) and (0, 400), ten frames in the air between
-        // them, the suit stepping 10 cm a frame along +z (the line of
-        // sight); the silhouette's track 30 cm off in the air, and 5 cm
-        // aside.
-        let mut track: Vec<DVec2> =
-            (0..12).map(|i| DVec2::new(5.0, 300.0 + 10.0 * i as f64 - 30.0)).collect();
-        track[0] = DVec2::new(0.0, 300.0);
-        track[11] = DVec2::new(0.0, 410.0);
-        let planted: Vec<bool> = (0..12).map(|i| i == 0 || i == 11).collect();
-        let steps = vec![DVec2::new(0.0, 10.0); 12];
-        bridge_flights(&mut track, &planted, &steps, 1.0 / 30.0, &camera);
-        for (i, p) in track.iter().enumerate().skip(1).take(10) {
-            let expected_z = 300.0 + 10.0 * i as f64;
-            assert!((p.y - expected_z).abs() < 1.0, "frame {i}: {p}");
-            // Across the line of sight it stays where the track had it.
-            assert!((p.x - 5.0).abs() < 0.5, "frame {i}: {p}");
-        }
     }
 }

@@ -166,7 +166,7 @@ impl Tracker {
     /// From now on the fused tracker does not score the path search's
     /// candidates itself (half its work): after each frame
     /// [`Tracker::take_path_request`] says what to score, a
-    /// [`crate::track::fused::PathScorer`] scores it from the same frame
+    /// [`crate::track::path_scorer::PathScorer`] scores it from the same frame
     /// (in the page, in a second worker, while this one reads the next
     /// frame), and [`Tracker::set_path_energies`] hands the energies back
     /// before [`Tracker::finish`]. The track is the same to the last bit.

@@ -1,0 +1,79 @@
+//! The fused tracker's path energies scored apart from it: a second worker
+//! in the page scores the path search's candidates from the same frames,
+//! to the last bit what the tracker would have computed. And, for
+//! evaluations only, the camera's best near a known truth.
+
+use glam::DVec2;
+
+use crate::error::Error;
+use crate::image::GreyImage;
+use crate::track::energy::Scorer;
+use crate::track::fused::{FrameScoring, FusedParams, line_of_sight};
+use crate::track::path::PathRequest;
+use crate::track::setup::TrackSetup;
+
+/// Scores [`PathRequest`]s apart from the tracker, from the same frames:
+/// what the tracker would have computed, to the last bit. And, for
+/// evaluations, the camera's best near a known truth.
+pub struct PathScorer {
+    setup: TrackSetup,
+    params: FusedParams,
+    scorer: Scorer,
+}
+
+impl PathScorer {
+    /// Scores with the fused tracker's `params`.
+    pub fn new(setup: TrackSetup, params: FusedParams) -> PathScorer {
+        PathScorer { scorer: Scorer::new(&setup.camera), params, setup }
+    }
+
+    /// The fused energy (px) at each of `request`'s candidates in `frame`,
+    /// video frame `request.frame`; NaN where the body is not in the image.
+    pub fn energies(&mut self, request: &PathRequest, frame: &GreyImage) -> Result<Vec<f64>, Error> {
+        let label = format!("video frame {}", request.frame);
+        let setup = &self.setup;
+        setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
+        let Some(body) = setup.posed_body(request.frame)? else {
+            return Err(Error::whole(&label, "no pose in the BVH here: no path to score"));
+        };
+        let features = setup.features(frame, request.truncate_px, &label)?;
+        let mut scoring =
+            FrameScoring::new(setup, &self.params, &mut self.scorer, &body, &features, request.prediction_cm);
+        Ok(request.candidates_cm.iter().map(|&p| scoring.energy(p)).collect())
+    }
+
+    /// For evaluations only (a tracker knows no `around_cm`): the least of
+    /// the fused energy in video frame `i`, tried every 2 cm along the
+    /// camera's line of sight through `around_cm` within `reach_cm` of it,
+    /// and every 1 cm across within 8 cm — how close the camera alone can
+    /// place the body in that frame when the truth is known. `None` where
+    /// the BVH has no pose or the body is nowhere in the image.
+    pub fn camera_oracle(
+        &mut self,
+        frame: &GreyImage,
+        i: usize,
+        around_cm: DVec2,
+        reach_cm: f64,
+    ) -> Result<Option<DVec2>, Error> {
+        let label = format!("video frame {i}");
+        let setup = &self.setup;
+        setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
+        let Some(body) = setup.posed_body(i)? else { return Ok(None) };
+        let features = setup.features(frame, setup.pipeline.truncate_px, &label)?;
+        let mut scoring =
+            FrameScoring::new(setup, &self.params, &mut self.scorer, &body, &features, around_cm);
+        let along = line_of_sight(&setup.camera, around_cm);
+        let steps = (reach_cm / 2.0).ceil() as i32;
+        let mut best: Option<(DVec2, f64)> = None;
+        for a in -steps..=steps {
+            for b in -8..=8 {
+                let p = around_cm + along * (2.0 * a as f64) + along.perp() * b as f64;
+                let e = scoring.energy(p);
+                if e.is_finite() && best.is_none_or(|(_, least)| e < least) {
+                    best = Some((p, e));
+                }
+            }
+        }
+        Ok(best.map(|(p, _)| p))
+    }
+}
