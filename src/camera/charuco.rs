@@ -29,12 +29,16 @@
 
 use std::collections::BTreeMap;
 
+use calib_targets::aruco::Matcher;
 use calib_targets::charuco::{
-    CharucoBoardSpec, CharucoDetectError, CharucoDetector, CharucoParams, GrayImageView, MarkerLayout,
-    resolve_dictionary,
+    CharucoBoard, CharucoBoardSpec, CharucoDetectError, CharucoDetector, CharucoParams, GrayImageView,
+    MarkerLayout, resolve_dictionary,
 };
 use glam::{DMat3, DVec2};
 
+use super::aruco::Grey;
+use super::aruco::Marker;
+use super::aruco::find_markers;
 use super::board::{Board, BoardCorner};
 use super::homography::homography;
 use super::pinhole::ImageSize;
@@ -100,10 +104,27 @@ pub fn detect(board: &Board, grey: &[u8], size: ImageSize, file: &str) -> Result
     // Most markers first, then most corners: the labelling with the most
     // evidence behind it.
     found.sort_by_key(|(markers, corners)| std::cmp::Reverse((*markers, corners.len())));
-    let Some((markers, seeds)) = found.into_iter().next() else {
+    let from_grid =
+        found.into_iter().next().map(|(markers, seeds)| (markers, complete(board, &image, &seeds)));
+    // The markers on their own: the way in when the grid is not seen (a
+    // far board on a textured floor), and a second opinion when it is.
+    let from_markers = match markers_first(board, spec, &image) {
+        Ok((markers, seeds)) => Some((markers, complete(board, &image, &seeds))),
+        Err(decoded) => {
+            if decoded > 0 {
+                furthest = furthest.max(Stage::Misfit(1));
+            }
+            None
+        }
+    };
+    // The more corners placed wins; the grid's on a tie, as it was first.
+    let best = match (from_grid, from_markers) {
+        (Some(g), Some(m)) => Some(if m.1.len() > g.1.len() { m } else { g }),
+        (g, m) => g.or(m),
+    };
+    let Some((markers, corners)) = best else {
         return Err(not_found(board, file, furthest));
     };
-    let corners = complete(board, &image, &seeds);
     if corners.is_empty() {
         return Err(Error::whole(
             file,
@@ -113,6 +134,104 @@ pub fn detect(board: &Board, grey: &[u8], size: ImageSize, file: &str) -> Result
         ));
     }
     Ok(Detection { corners, markers })
+}
+
+/// The board's corners predicted from its markers found on their own
+/// (`aruco`), with the number of markers behind them; else the number of
+/// markers decoded, none of them two that agree on one placement.
+///
+/// A marker decoded at several threshold windows counts once; markers
+/// agree when one's homography puts the other's corners within a fifth of
+/// its side (a marker's 4 corners, each a pixel off, extrapolated across
+/// the board). Two markers at least, as OpenCV interpolates a corner from
+/// two. Each corner is predicted by the homography of the markers in the
+/// squares about it (so the lens's bending between far squares does not
+/// enter), and left to `complete` when none is found there.
+fn markers_first(
+    board: &Board,
+    spec: CharucoBoardSpec,
+    image: &Grey,
+) -> Result<(usize, BTreeMap<u32, DVec2>), usize> {
+    let layout = CharucoBoard::new(spec).map_err(|_| 0usize)?;
+    // OpenCV's `errorCorrectionRate` 0.8 of the dictionary's correction
+    // bits: for DICT_4X4_50, no bit wrong.
+    let correction = (0.8 * spec.dictionary.max_correction_bits() as f64).floor() as u8;
+    let matcher = Matcher::new(spec.dictionary, correction);
+    let on_board = |m: &Marker| marker_on_board(board, &layout, m.id);
+    let seen: Vec<(Marker, [DVec2; 4])> = find_markers(image, &matcher, spec.border_bits)
+        .into_iter()
+        .filter_map(|m| Some((m.clone(), on_board(&m)?)))
+        .collect();
+    let decoded = seen.iter().map(|(m, _)| m.id).collect::<std::collections::BTreeSet<_>>().len();
+    let agrees = |h: &DMat3, (m, b): &(Marker, [DVec2; 4])| {
+        let side = (0..4).map(|k| (m.corners[k] - m.corners[(k + 1) % 4]).length()).sum::<f64>() / 4.0;
+        (0..4).all(|k| project(h, Some(b[k])).is_some_and(|p| (p - m.corners[k]).length() < 0.2 * side))
+    };
+    let fit_markers = |group: &[&(Marker, [DVec2; 4])]| {
+        let (from, to): (Vec<DVec2>, Vec<DVec2>) =
+            group.iter().flat_map(|(m, b)| (0..4).map(move |k| (b[k], m.corners[k]))).unzip();
+        homography(&from, &to)
+    };
+    // The placement most markers agree on, each marker's own tried.
+    let mut best: Vec<&(Marker, [DVec2; 4])> = Vec::new();
+    for candidate in &seen {
+        let Some(h) = fit_markers(&[candidate]) else { continue };
+        let mut group: Vec<_> = seen.iter().filter(|s| agrees(&h, s)).collect();
+        // Once more with the group's own homography: the one marker's
+        // extrapolation is the weak link.
+        if let Some(h) = fit_markers(&group) {
+            group = seen.iter().filter(|s| agrees(&h, s)).collect();
+        }
+        let ids = |g: &[&(Marker, [DVec2; 4])]| {
+            g.iter().map(|(m, _)| m.id).collect::<std::collections::BTreeSet<_>>().len()
+        };
+        if ids(&group) > ids(&best) {
+            best = group;
+        }
+    }
+    let markers = best.iter().map(|(m, _)| m.id).collect::<std::collections::BTreeSet<_>>();
+    if markers.len() < 2 {
+        return Err(decoded);
+    }
+    let per_row = board.squares_x - 1;
+    let mut seeds = BTreeMap::new();
+    for id in 0..board.corner_count() {
+        let (i, j) = (id % per_row + 1, id / per_row + 1);
+        let near: Vec<_> = best
+            .iter()
+            .copied()
+            .filter(|(m, _)| {
+                layout.marker_position(m.id).is_some_and(|c| {
+                    (c.u == i as i32 || c.u + 1 == i as i32) && (c.v == j as i32 || c.v + 1 == j as i32)
+                })
+            })
+            .collect();
+        if let Some(p) = fit_markers(&near).and_then(|h| project(&h, board.corner_on_board(id))) {
+            seeds.insert(id, p);
+        }
+    }
+    if seeds.len() < 4 {
+        return Err(decoded);
+    }
+    Ok((markers.len(), seeds))
+}
+
+/// Marker `id`'s corners on the board (cm) in OpenCV's order, the marker
+/// centred in its square.
+fn marker_on_board(board: &Board, layout: &CharucoBoard, id: u32) -> Option<[DVec2; 4]> {
+    let square = layout.marker_position(id)?;
+    if id >= board.marker_count() {
+        return None;
+    }
+    let inset = (board.square_cm - board.marker_cm) / 2.0;
+    let top_left = DVec2::new(square.u as f64, square.v as f64) * board.square_cm + DVec2::splat(inset);
+    let m = board.marker_cm;
+    Some([
+        top_left,
+        top_left + DVec2::new(m, 0.0),
+        top_left + DVec2::new(m, m),
+        top_left + DVec2::new(0.0, m),
+    ])
 }
 
 /// How far a failed search got, for its message.
@@ -164,35 +283,6 @@ fn settings(spec: CharucoBoardSpec) -> Vec<CharucoParams> {
     let mut strong = base.clone();
     strong.chessboard.min_corner_strength = 60.0;
     vec![upscaled, wide, base, strong, radon]
-}
-
-/// A grey image borrowed, sampled between pixel centres.
-struct Grey<'a> {
-    width: usize,
-    height: usize,
-    pixels: &'a [u8],
-}
-
-impl Grey<'_> {
-    /// Bilinear sample at `p` (pixel centres at whole numbers), clamped at
-    /// the borders.
-    fn at(&self, p: DVec2) -> f64 {
-        let x = p.x.clamp(0.0, (self.width - 1) as f64);
-        let y = p.y.clamp(0.0, (self.height - 1) as f64);
-        let (x0, y0) = (x.floor() as usize, y.floor() as usize);
-        let (x1, y1) = ((x0 + 1).min(self.width - 1), (y0 + 1).min(self.height - 1));
-        let (fx, fy) = (x - x0 as f64, y - y0 as f64);
-        let v = |x: usize, y: usize| self.pixels[y * self.width + x] as f64;
-        (v(x0, y0) * (1.0 - fx) + v(x1, y0) * fx) * (1.0 - fy)
-            + (v(x0, y1) * (1.0 - fx) + v(x1, y1) * fx) * fy
-    }
-
-    fn contains(&self, p: DVec2, margin: f64) -> bool {
-        p.x >= margin
-            && p.y >= margin
-            && p.x <= self.width as f64 - 1.0 - margin
-            && p.y <= self.height as f64 - 1.0 - margin
-    }
 }
 
 /// Every corner of the board that can be placed: the seeds refined, then

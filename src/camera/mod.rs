@@ -26,6 +26,8 @@
 //! gives) and `least_squares` (the small dense solvers and the one
 //! Levenberg–Marquardt minimiser, its damping rules per calibration).
 
+#[cfg(feature = "board")]
+mod aruco;
 pub mod board;
 pub mod calibrate;
 #[cfg(feature = "board")]

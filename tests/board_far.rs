@@ -1,0 +1,176 @@
+//! The board farther away than in the shared stills: each shared board
+//! still's board moved along the floor, away from the camera, so that it
+//! lies 4.5–6.5 m off (about 0.5–0.7× its size in the still), redrawn
+//! through the true lens over that scene's empty floor; and whole stills
+//! shrunk. No new data: every still is made here from the shared ones.
+
+// A test may panic on what it does not expect: that is how it fails.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+#![cfg(feature = "board")]
+
+mod common;
+
+use std::path::Path;
+
+use embusen::camera::board::Board;
+use embusen::camera::calibrate::BoardView;
+use embusen::camera::calibrate::calibrate_pose;
+use embusen::camera::charuco::detect;
+use embusen::camera::{Camera, ImageSize};
+use embusen::image::grey::GreyImage;
+use embusen::io::image_file::open_png_grey;
+use glam::{DVec2, DVec3};
+
+const SCENES: [&str; 7] = ["walk", "walk_turns", "run", "slash", "walk_toward", "shadow", "second_person"];
+
+/// The board's outline on the board (cm): its squares and the white
+/// margin printed around them, which the shared stills show.
+const MARGIN_CM: f64 = 4.0;
+const BOARD_CM: DVec2 = DVec2::new(210.0, 150.0);
+
+fn camera(dir: &Path, scene: &str) -> Camera {
+    let path = dir.join(format!("{scene}.camera.json"));
+    Camera::from_json(&std::fs::read_to_string(path).unwrap(), scene).unwrap()
+}
+
+/// Bilinear sample of `image` at `p` (pixel centres at whole numbers).
+fn sample(image: &GreyImage, p: DVec2) -> f64 {
+    let (w, h) = (image.width_px as usize, image.height_px as usize);
+    let x = p.x.clamp(0.0, (w - 1) as f64);
+    let y = p.y.clamp(0.0, (h - 1) as f64);
+    let (x0, y0) = (x.floor() as usize, y.floor() as usize);
+    let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
+    let (fx, fy) = (x - x0 as f64, y - y0 as f64);
+    let v = |x: usize, y: usize| image.pixels[y * w + x] as f64;
+    (v(x0, y0) * (1.0 - fx) + v(x1, y0) * fx) * (1.0 - fy) + (v(x0, y1) * (1.0 - fx) + v(x1, y1) * fx) * fy
+}
+
+/// A board moved on the floor: board point `b` (cm) of the moved board
+/// lies at the floor point `origin + rotate(b)`, `rotate` by `yaw_rad`
+/// about the floor's normal (world x, z plane).
+#[derive(Clone, Copy, Debug)]
+struct Placement {
+    origin: DVec2,
+    yaw_rad: f64,
+}
+
+impl Placement {
+    fn board_from_floor(&self, floor: DVec2) -> DVec2 {
+        let (s, c) = self.yaw_rad.sin_cos();
+        let d = floor - self.origin;
+        DVec2::new(c * d.x + s * d.y, -s * d.x + c * d.y)
+    }
+}
+
+/// The still `board_still` (of the board at the world origin, seen by
+/// `camera`) with the board moved to `placement` over the empty floor
+/// `empty`: each pixel is the mean of 4×4 rays; a ray meeting the moved
+/// board (squares and margin) takes the still's pixel where that board
+/// point lay, else the empty floor's.
+fn moved_board(
+    camera: &Camera,
+    board_still: &GreyImage,
+    empty: &GreyImage,
+    placement: Placement,
+) -> GreyImage {
+    let (w, h) = (empty.width_px as usize, empty.height_px as usize);
+    let n = 4;
+    let mut pixels = vec![0u8; w * h];
+    for y in 0..h {
+        for x in 0..w {
+            let mut sum = 0.0;
+            for sy in 0..n {
+                for sx in 0..n {
+                    let p = DVec2::new(
+                        x as f64 - 0.5 + (sx as f64 + 0.5) / n as f64,
+                        y as f64 - 0.5 + (sy as f64 + 0.5) / n as f64,
+                    );
+                    let on_board =
+                        camera.floor_point(p).map(|f| placement.board_from_floor(DVec2::new(f.x, f.z)));
+                    let inside = on_board.filter(|b| {
+                        b.x >= -MARGIN_CM
+                            && b.y >= -MARGIN_CM
+                            && b.x <= BOARD_CM.x + MARGIN_CM
+                            && b.y <= BOARD_CM.y + MARGIN_CM
+                    });
+                    sum += match inside.and_then(|b| camera.point_in_image(DVec3::new(b.x, 0.0, b.y))) {
+                        Some(q) => sample(board_still, q),
+                        None => sample(empty, p),
+                    };
+                }
+            }
+            pixels[y * w + x] = (sum / (n * n) as f64).round().clamp(0.0, 255.0) as u8;
+        }
+    }
+    GreyImage { width_px: empty.width_px, height_px: empty.height_px, pixels }
+}
+
+/// The placement that puts the board's centre `distance_cm` from the
+/// camera's centre, on the floor line from the camera's foot through the
+/// board's centre today, turned by `yaw_rad`.
+fn farther(camera: &Camera, distance_cm: f64, yaw_rad: f64) -> Placement {
+    let c = camera.center_in_world();
+    let foot = DVec2::new(c.x, c.z);
+    let centre = BOARD_CM / 2.0;
+    let along = (centre - foot).normalize();
+    let reach = (distance_cm * distance_cm - c.y * c.y).max(0.0).sqrt();
+    let new_centre = foot + along * reach;
+    let (s, co) = yaw_rad.sin_cos();
+    // origin + rotate(centre) = new_centre
+    let rotated = DVec2::new(co * centre.x - s * centre.y, s * centre.x + co * centre.y);
+    Placement { origin: new_centre - rotated, yaw_rad }
+}
+
+/// The true camera's centre in the moved board's frame (the world the
+/// calibration returns: board origin at the world origin).
+fn true_centre_on_board(camera: &Camera, placement: Placement) -> DVec3 {
+    let c = camera.center_in_world();
+    let b = placement.board_from_floor(DVec2::new(c.x, c.z));
+    DVec3::new(b.x, c.y, b.y)
+}
+
+/// Found corners and the centre's error (cm) with the true lens, or the
+/// detector's message.
+fn find(
+    board: &Board,
+    image: &GreyImage,
+    lens: &Camera,
+    truth: DVec3,
+    name: &str,
+) -> Result<(usize, f64), String> {
+    let size = ImageSize { width_px: image.width_px, height_px: image.height_px };
+    let found = detect(board, &image.pixels, size, name).map_err(|e| e.to_string())?;
+    let view = BoardView { file: name, board, corners: &found.corners };
+    let calibration = calibrate_pose(&view, lens).map_err(|e| e.to_string())?;
+    Ok((found.corners.len(), (calibration.camera.center_in_world() - truth).length()))
+}
+
+fn write_png(image: &GreyImage, path: &Path) {
+    let bytes = embusen::io::image_file::grey_to_png(image, "out").unwrap();
+    std::fs::write(path, bytes).unwrap();
+}
+
+#[test]
+fn survey_far_boards() {
+    let Some(dir) = common::data_dir() else { return };
+    let dir = dir.join("optical");
+    let board = Board::on_floor("DICT_4X4_50", 7, 5, 30.0, 23.0, "<test>").unwrap();
+    let keep = std::env::var("KEEP_FAR").ok();
+    for scene in SCENES {
+        let cam = camera(&dir, scene);
+        let still = open_png_grey(&dir.join(format!("{scene}.board.png"))).unwrap();
+        let empty = open_png_grey(&dir.join(format!("{scene}.background.png"))).unwrap();
+        for distance_cm in [450.0, 500.0, 550.0, 600.0, 650.0] {
+            for yaw_deg in [0.0f64, 30.0] {
+                let placement = farther(&cam, distance_cm, yaw_deg.to_radians());
+                let image = moved_board(&cam, &still, &empty, placement);
+                let name = format!("{scene}-{distance_cm}-{yaw_deg}");
+                if let Some(k) = &keep {
+                    write_png(&image, &Path::new(k).join(format!("{name}.png")));
+                }
+                let r = find(&board, &image, &cam, true_centre_on_board(&cam, placement), &name);
+                eprintln!("{name}: {r:?}");
+            }
+        }
+    }
+}
