@@ -67,6 +67,11 @@ pub(super) struct Marker {
 /// darker than its window's mean, so flat floor is neither.
 const THRESHOLD_CONSTANT: f64 = 7.0;
 
+/// OpenCV's `polygonalApproxAccuracyRate` (the shared stills' detector
+/// parameters): how far an outline may stray from its polygon, as a share
+/// of the polygon's perimeter.
+const POLYGON_ACCURACY: f64 = 0.06;
+
 /// Every marker of `matcher`'s dictionary seen in `image` (`border_bits`
 /// cells of black border around the code), once per threshold window it is
 /// found at: the caller merges them.
@@ -178,9 +183,10 @@ fn regions(dark: &[bool], width: usize, height: usize) -> Vec<Vec<(usize, usize)
 }
 
 /// The region's outline as a quadrilateral (corners in the image's
-/// clockwise order as seen, top-left first of the four by nothing in
-/// particular), when it is one: the largest quadrilateral in its convex
-/// hull covers 90 % of the hull, and each side is at least `cells` px.
+/// clockwise order as seen, the first of the four by nothing in
+/// particular), when it is one: the largest quadrilateral on its convex
+/// hull holds the hull but for OpenCV's tolerance, and each side is at
+/// least `cells` px.
 fn quadrilateral(boundary: &[(usize, usize)], cells: f64) -> Option<[DVec2; 4]> {
     // The pixels' outer corners, so that a region's outline is its edge.
     let mut points: Vec<DVec2> = boundary
@@ -195,26 +201,48 @@ fn quadrilateral(boundary: &[(usize, usize)], cells: f64) -> Option<[DVec2; 4]> 
         return None;
     }
     let hull_area = polygon_area(&hull);
-    // The diagonal: the hull's farthest pair; the other two corners: the
-    // farthest from it on either side.
-    let mut best = (0.0, 0, 0);
+    // A marker needs a pixel a cell at least.
+    if hull_area < cells * cells {
+        return None;
+    }
+    // The largest quadrilateral on the hull's vertices: over each diagonal,
+    // the vertex farthest on either side (a foreshortened marker's longest
+    // chord may be a side, not a diagonal, so every pair is tried).
+    let mut best: Option<(f64, [DVec2; 4])> = None;
     for i in 0..hull.len() {
-        for j in i + 1..hull.len() {
-            let d = (hull[i] - hull[j]).length_squared();
-            if d > best.0 {
-                best = (d, i, j);
+        for j in i + 2..hull.len() {
+            let (a, c) = (hull[i], hull[j]);
+            let side = |p: &&DVec2| (c - a).perp_dot(**p - a);
+            let (Some(b), Some(d)) = (
+                hull.iter().min_by(|p, q| side(p).total_cmp(&side(q))),
+                hull.iter().max_by(|p, q| side(p).total_cmp(&side(q))),
+            ) else {
+                continue;
+            };
+            // Positive orientation in pixel coordinates (y down) is
+            // clockwise as seen: the printed marker's corner order.
+            let quad = [a, *b, c, *d];
+            let area = polygon_area(&quad);
+            if side(&b) < 0.0 && side(&d) > 0.0 && best.is_none_or(|(most, _)| area > most) {
+                best = Some((area, quad));
             }
         }
     }
-    let (a, c) = (hull[best.1], hull[best.2]);
-    let side = |p: DVec2| (c - a).perp_dot(p - a);
-    let b = *hull.iter().min_by(|p, q| side(**p).total_cmp(&side(**q)))?;
-    let d = *hull.iter().max_by(|p, q| side(**p).total_cmp(&side(**q)))?;
-    // Positive orientation in pixel coordinates (y down) is clockwise as
-    // seen: the printed marker's corner order.
-    let quad = [a, b, c, d];
-    let area = polygon_area(&quad);
-    if area < 0.9 * hull_area || side(b) >= 0.0 || side(d) <= 0.0 {
+    let (_, quad) = best?;
+    // The hull within OpenCV's polygon approximation tolerance of the
+    // quadrilateral (`polygonalApproxAccuracyRate` 0.06 of the outline's
+    // length): blur rounds a small marker's corners, and the pixels'
+    // staircase adds a pixel.
+    let perimeter: f64 = (0..4).map(|k| (quad[k] - quad[(k + 1) % 4]).length()).sum();
+    let outside = |p: DVec2| {
+        (0..4)
+            .map(|k| {
+                let edge = quad[(k + 1) % 4] - quad[k];
+                -edge.perp_dot(p - quad[k]) / edge.length()
+            })
+            .fold(0.0f64, f64::max)
+    };
+    if hull.iter().any(|p| outside(*p) > POLYGON_ACCURACY * perimeter) {
         return None;
     }
     let shortest = (0..4).map(|k| (quad[k] - quad[(k + 1) % 4]).length()).fold(f64::INFINITY, f64::min);
@@ -326,25 +354,4 @@ fn otsu(values: &[f64]) -> Option<f64> {
 fn project(h: &DMat3, p: DVec2) -> Option<DVec2> {
     let q = *h * p.extend(1.0);
     (q.z.abs() > 1e-12).then(|| q.truncate() / q.z).filter(|p| p.is_finite())
-}
-
-#[cfg(test)]
-mod debug_tests {
-    use super::*;
-    #[test]
-    fn debug_markers() {
-        let g = crate::io::image_file::open_png_grey(std::path::Path::new(&std::env::var("STILL").unwrap_or("/work/shared/data/optical/walk.board.png".into()))).unwrap();
-        let image = Grey { width: g.width_px as usize, height: g.height_px as usize, pixels: &g.pixels };
-        let dict = calib_targets::aruco::resolve_dictionary("DICT_4X4_50").unwrap();
-        eprintln!("maxcorr {}", dict.max_correction_bits());
-        let matcher = Matcher::new(dict, 1);
-        let integral = Integral::new(&image);
-        for window in (3..=31).step_by(4) {
-            let dark = integral.dark(&image, window);
-            let rs = regions(&dark, image.width, image.height);
-            let quads: Vec<_> = rs.iter().filter_map(|r| quadrilateral(r, 6.0)).collect();
-            let dec: Vec<_> = quads.iter().filter_map(|q| decode(&image, &matcher, *q, 4, 1)).collect();
-            eprintln!("w {window}: dark {} regions {} quads {} decoded {:?}", dark.iter().filter(|d| **d).count(), rs.len(), quads.len(), dec.iter().map(|m| m.id).collect::<Vec<_>>());
-        }
-    }
 }
