@@ -73,9 +73,27 @@ fn moved_board(
     empty: &GreyImage,
     placement: Placement,
 ) -> GreyImage {
-    let (w, h) = (empty.width_px as usize, empty.height_px as usize);
+    let pixels = supersampled(empty.width_px, empty.height_px, |p| {
+        let on_board = camera.floor_point(p).map(|f| placement.board_from_floor(DVec2::new(f.x, f.z)));
+        let inside = on_board.filter(|b| {
+            b.x >= -MARGIN_CM
+                && b.y >= -MARGIN_CM
+                && b.x <= BOARD_CM.x + MARGIN_CM
+                && b.y <= BOARD_CM.y + MARGIN_CM
+        });
+        match inside.and_then(|b| camera.point_in_image(DVec3::new(b.x, 0.0, b.y))) {
+            Some(q) => sample(board_still, q),
+            None => sample(empty, p),
+        }
+    });
+    GreyImage { width_px: empty.width_px, height_px: empty.height_px, pixels }
+}
+
+/// A `w × h` image whose each pixel is the mean of `grey` at 4×4 points
+/// spread over it (pixel centres at whole numbers).
+fn supersampled(w: u32, h: u32, grey: impl Fn(DVec2) -> f64) -> Vec<u8> {
     let n = 4;
-    let mut pixels = vec![0u8; w * h];
+    let mut pixels = Vec::with_capacity((w * h) as usize);
     for y in 0..h {
         for x in 0..w {
             let mut sum = 0.0;
@@ -85,24 +103,13 @@ fn moved_board(
                         x as f64 - 0.5 + (sx as f64 + 0.5) / n as f64,
                         y as f64 - 0.5 + (sy as f64 + 0.5) / n as f64,
                     );
-                    let on_board =
-                        camera.floor_point(p).map(|f| placement.board_from_floor(DVec2::new(f.x, f.z)));
-                    let inside = on_board.filter(|b| {
-                        b.x >= -MARGIN_CM
-                            && b.y >= -MARGIN_CM
-                            && b.x <= BOARD_CM.x + MARGIN_CM
-                            && b.y <= BOARD_CM.y + MARGIN_CM
-                    });
-                    sum += match inside.and_then(|b| camera.point_in_image(DVec3::new(b.x, 0.0, b.y))) {
-                        Some(q) => sample(board_still, q),
-                        None => sample(empty, p),
-                    };
+                    sum += grey(p);
                 }
             }
-            pixels[y * w + x] = (sum / (n * n) as f64).round().clamp(0.0, 255.0) as u8;
+            pixels.push((sum / (n * n) as f64).round().clamp(0.0, 255.0) as u8);
         }
     }
-    GreyImage { width_px: empty.width_px, height_px: empty.height_px, pixels }
+    pixels
 }
 
 /// The placement that puts the board's centre `distance_cm` from the
@@ -188,25 +195,9 @@ fn degraded(image: &GreyImage, sigma_px: f64, noise_grey: f64) -> GreyImage {
 fn shrunk(image: &GreyImage, camera: &Camera, scale: f64) -> (GreyImage, Camera) {
     let (w, h) =
         ((image.width_px as f64 * scale).round() as u32, (image.height_px as f64 * scale).round() as u32);
-    let n = 4;
-    let mut pixels = Vec::with_capacity((w * h) as usize);
-    for y in 0..h {
-        for x in 0..w {
-            let mut sum = 0.0;
-            for sy in 0..n {
-                for sx in 0..n {
-                    // The new pixel's sample in the new image, and where it
-                    // lies in the old (pixel centres at whole numbers).
-                    let p = DVec2::new(
-                        x as f64 - 0.5 + (sx as f64 + 0.5) / n as f64,
-                        y as f64 - 0.5 + (sy as f64 + 0.5) / n as f64,
-                    );
-                    sum += sample(image, (p + 0.5) / scale - 0.5);
-                }
-            }
-            pixels.push((sum / (n * n) as f64).round() as u8);
-        }
-    }
+    // Where each sample of the new image lies in the old (pixel centres
+    // at whole numbers).
+    let pixels = supersampled(w, h, |p| sample(image, (p + 0.5) / scale - 0.5));
     let mut lens = *camera;
     lens.image_size = ImageSize { width_px: w, height_px: h };
     let k = &mut lens.intrinsics;

@@ -3,15 +3,28 @@
 //!
 //! Two stages, because each alone falls short on a floor board filmed from
 //! a few metres:
-//! 1. **Which board, which corner**: `calib-targets` (OpenCV's dictionaries
-//!    and layout) finds the chessboard, decodes the markers and so labels
-//!    the corners with OpenCV's ids. Its corner finder (ChESS) needs a clean
-//!    X-junction around each corner, which the thin white margin between a
-//!    marker and its square (3.5 cm of 30 on the shared boards, 2 px when a
-//!    square is 15 px) seldom leaves: on the shared stills it labels
-//!    anywhere from none to all of the 24 corners depending on its settings.
-//!    So a few settings are tried until one labels the board by two
-//!    markers or more (else the one with the most markers is kept).
+//! 1. **Which board, which corner**, two ways, the one that places more
+//!    corners in stage 2 kept:
+//!    - the grid: `calib-targets` (OpenCV's dictionaries and layout) finds
+//!      the chessboard, decodes the markers in its squares and so labels
+//!      the corners with OpenCV's ids. Its corner finder (ChESS) needs a
+//!      clean X-junction around each corner, which the thin white margin
+//!      between a marker and its square (3.5 cm of 30 on the shared
+//!      boards, 2 px when a square is 15 px) seldom leaves: on the shared
+//!      stills it labels anywhere from none to all of the 24 corners
+//!      depending on its settings. So a few settings are tried until one
+//!      labels the board by two markers or more (else the one with the
+//!      most markers is kept). On a board 4–6 m away on a textured floor
+//!      it finds no grid at all: the floor's grain makes as many corners
+//!      as the board's squares;
+//!    - the markers on their own (`aruco`, OpenCV's way: adaptive
+//!      thresholds, quadrilaterals, codes), two or more agreeing on one
+//!      placement, each corner predicted by the markers in the squares
+//!      about it. Measured on the shared stills' boards moved 4.5–6.5 m
+//!      away over their own floors: found wherever OpenCV finds 4 corners
+//!      (`tests/board_far.rs`); and on the walk still shrunk to 0.6× the
+//!      grid alone labelled 5 corners wrongly (the camera 277 cm off) where
+//!      the markers place all 24.
 //! 2. **Every corner, sub-pixel**: from the labelled corners, the board's
 //!    homography predicts the others, ring by ring (OpenCV's way too:
 //!    markers first, corners interpolated, then refined). Each corner,
