@@ -245,7 +245,7 @@ fn far_boards_on_textured_floors_are_found() {
     let mut worst = 0.0f64;
     let mut failed = Vec::new();
     eprintln!(
-        "still                    OpenCV  corners  centre off (cm)  degraded: corners  centre off (cm)"
+        "still                 OpenCV (clean, blurred)  corners  centre off (cm)  blurred: corners  centre off (cm)"
     );
     for (scene, distance_cm, yaw_deg, opencv, opencv_rough) in FAR {
         let cam = camera(&dir, scene);

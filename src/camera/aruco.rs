@@ -188,14 +188,23 @@ fn regions(dark: &[bool], width: usize, height: usize) -> Vec<Vec<(usize, usize)
 /// hull holds the hull but for OpenCV's tolerance, and each side is at
 /// least `cells` px.
 fn quadrilateral(boundary: &[(usize, usize)], cells: f64) -> Option<[DVec2; 4]> {
-    // The pixels' outer corners, so that a region's outline is its edge.
-    let mut points: Vec<DVec2> = boundary
-        .iter()
-        .flat_map(|&(x, y)| {
-            let c = DVec2::new(x as f64, y as f64);
-            [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)].map(|(dx, dy)| c + DVec2::new(dx, dy))
-        })
-        .collect();
+    // Only each row's leftmost and rightmost pixels can be on the hull;
+    // their outer corners, so that a region's outline is its edge.
+    let top = boundary.iter().map(|p| p.1).min()?;
+    let bottom = boundary.iter().map(|p| p.1).max()?;
+    let mut rows = vec![(usize::MAX, 0usize); bottom - top + 1];
+    for &(x, y) in boundary {
+        let row = &mut rows[y - top];
+        *row = (row.0.min(x), row.1.max(x));
+    }
+    let mut points: Vec<DVec2> = Vec::with_capacity(4 * rows.len());
+    for (dy, &(left, right)) in rows.iter().enumerate() {
+        let y = (top + dy) as f64;
+        for x in [left as f64 - 0.5, right as f64 + 0.5] {
+            points.push(DVec2::new(x, y - 0.5));
+            points.push(DVec2::new(x, y + 0.5));
+        }
+    }
     let hull = convex_hull(&mut points);
     if hull.len() < 4 {
         return None;

@@ -540,8 +540,8 @@ mod tests {
         // `ahead_cm` ahead; board X to the right, board Y toward the camera
         // (so that its Z, X × Y, points into the floor, as the shared
         // boards').
-        let (height_cm, ahead_cm, focal_px) = (200.0, 450.0, 500.0);
-        let (sin, cos) = (height_cm / ahead_cm as f64).atan().sin_cos();
+        let (height_cm, ahead_cm, focal_px): (f64, f64, f64) = (200.0, 450.0, 500.0);
+        let (sin, cos) = (height_cm / ahead_cm).atan().sin_cos();
         let far_cm = ahead_cm + 75.0;
         let camera_from_board = DMat3::from_cols(
             DVec3::new(1.0, 0.0, 0.0),
