@@ -17,7 +17,9 @@ use embusen::camera::rotation::angle_between;
 use glam::DVec3;
 use serde_json::Value;
 
-const SCENES: [&str; 4] = ["walk", "walk_turns", "run", "slash"];
+/// The shared scenes; the by-hand test keeps to the first four, the ones
+/// its tolerance was set on (its four-point model has no lens distortion).
+const SCENES: [&str; 7] = ["walk", "walk_turns", "run", "slash", "walk_toward", "shadow", "second_person"];
 
 fn embusen(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_embusen")).args(args).output().expect("runs embusen")
@@ -187,7 +189,7 @@ fn bad_input_is_a_clear_message() {
 fn four_floor_corners_give_the_camera_by_hand() {
     let Some(data) = common::data_dir() else { return };
     let dir = scratch("by-hand");
-    for scene in SCENES {
+    for scene in &SCENES[..4] {
         let path = data.join("optical").join(format!("{scene}.camera.json"));
         let truth = Camera::from_json(&std::fs::read_to_string(&path).unwrap(), scene).unwrap();
         let clicks: Vec<String> = [(0.0, 0.0), (210.0, 0.0), (210.0, 150.0), (0.0, 150.0)]

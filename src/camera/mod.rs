@@ -18,7 +18,8 @@
 //! The camera (`pinhole`, its rotations in `rotation`) is kept as
 //! `camera.json` (`json`: `Camera::from_json`, `Camera::to_json`),
 //! calibrated from stills of a ChArUco board (`board`, its layout and file;
-//! `charuco`, finding it, feature `board`; `calibrate`, the camera from its
+//! `charuco`, finding it, feature `board`, its markers found on their own
+//! in `aruco`; `calibrate`, the camera from its
 //! corners: its pose, or its lens and pose, Zhang's method from several),
 //! and made by hand from four floor points (`floor_rectangle`) when there
 //! is no board. The calibrations share one toolbox: `homography` (the
@@ -26,6 +27,8 @@
 //! gives) and `least_squares` (the small dense solvers and the one
 //! Levenberg–Marquardt minimiser, its damping rules per calibration).
 
+#[cfg(feature = "board")]
+mod aruco;
 pub mod board;
 pub mod calibrate;
 #[cfg(feature = "board")]
