@@ -95,7 +95,7 @@ fn bias_corrections(
             .filter(|(j, _, _)| j.abs_diff(i) <= reach)
             .map(|&(j, offset, sigma)| {
                 let t = j.abs_diff(i) as f64 * dt_s / BIAS_TIME_SIGMA_S;
-                (offset, (-0.5 * t * t).exp() / (sigma * sigma), sigma)
+                (offset, gaussian_weight(t) / (sigma * sigma), sigma)
             })
             .collect();
         let Some(bulk) = weighted_median(&near) else {
@@ -114,7 +114,7 @@ fn bias_corrections(
         // the weight over how many frames a stance spans. Where they scatter
         // more than their σ say (a shadow under the feet, a pose further
         // off), the estimate is as much less certain.
-        let scatter = kept.iter().map(|k| k.1 * (k.0 - estimate).powi(2)).sum::<f64>() / weight;
+        let scatter = kept.iter().map(|k| k.1 * (k.0 - estimate) * (k.0 - estimate)).sum::<f64>() / weight;
         let stated = kept.iter().map(|k| k.1 * k.2 * k.2).sum::<f64>() / weight;
         let variance = per_stance / weight * (scatter / stated).max(1.0);
         let gain = prior / (prior + variance);
@@ -123,6 +123,15 @@ fn bias_corrections(
         corrections.push((correction, (gain * variance).sqrt()));
     }
     corrections
+}
+
+/// About `exp(−t²/2)`, by the first four terms of the series of its
+/// inverse: arithmetic only, so that the CLI and the browser (whose `exp`
+/// are different libraries) weigh to the same bit. Within 1 % of the
+/// Gaussian's up to one σ, a little heavier beyond (0.16 for 0.14 at 2 σ).
+fn gaussian_weight(t: f64) -> f64 {
+    let x = 0.5 * t * t;
+    1.0 / (1.0 + x * (1.0 + x * (0.5 + x / 6.0)))
 }
 
 /// The weighted median of `(value, weight, _)`; `None` without weight.

@@ -404,7 +404,7 @@ impl FusedTracker {
             let sigma = self.params.stride_error * step.length() + self.params.drift_cm_per_s * dt_s;
             at = SmoothedFrame {
                 floor_cm: at.floor_cm - step,
-                uncertainty_cm: at.uncertainty_cm.hypot(sigma),
+                uncertainty_cm: (at.uncertainty_cm * at.uncertainty_cm + sigma * sigma).sqrt(),
             };
             before[k] = at;
         }

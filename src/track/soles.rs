@@ -221,10 +221,13 @@ impl SoleView {
         let seen_cm = DVec2::new(seen.x, seen.z);
         let shift_cm = (seen_cm - edge.floor_cm).dot(edge.along);
         let cm_per_row = (DVec2::new(next_row.x, next_row.z) - seen_cm).length();
+        let edge_cm = EDGE_SIGMA_PX * cm_per_row;
         Some(SoleSighting {
             implied_hips_cm: hips_cm + edge.along * shift_cm,
             along: edge.along,
-            sigma_cm: (EDGE_SIGMA_PX * cm_per_row).hypot(POSE_SIGMA_CM),
+            // Not `hypot`: the CLI's and the browser's libraries differ in
+            // its last bit; a square root does not.
+            sigma_cm: (edge_cm * edge_cm + POSE_SIGMA_CM * POSE_SIGMA_CM).sqrt(),
         })
     }
 }
