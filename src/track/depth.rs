@@ -198,7 +198,7 @@ pub fn bridge_flights(track: &mut [DVec2], planted: &[bool], steps_cm: &[DVec2],
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::track::soles::tests::{camera, mask_of_soles, one_foot};
+    use crate::track::soles::tests::{camera, mask_of_body_soles, one_foot};
     use crate::track::soles::view_soles;
 
     #[test]
@@ -218,12 +218,7 @@ mod tests {
             .iter()
             .enumerate()
             .flat_map(|(i, &p)| {
-                let soles: Vec<(DVec2, f64)> = body
-                    .spheres
-                    .iter()
-                    .map(|s| (DVec2::new(s.centre_cm.x, s.centre_cm.z) + p, s.radius_cm))
-                    .collect();
-                let mask = mask_of_soles(&camera, &soles);
+                let mask = mask_of_body_soles(&camera, &body, p);
                 view_soles(&camera, &feet, &body, &mask, track[i]).into_iter().map(move |v| (i, v))
             })
             .collect();

@@ -438,6 +438,17 @@ pub(crate) mod tests {
         Mask { width_px: w, height_px: h, on }
     }
 
+    /// The foreground of `body`'s soles (each sphere's disc on the floor)
+    /// with the hips at `hips_cm`.
+    pub(crate) fn mask_of_body_soles(camera: &Camera, body: &PosedBody, hips_cm: DVec2) -> Mask {
+        let soles: Vec<(DVec2, f64)> = body
+            .spheres
+            .iter()
+            .map(|s| (DVec2::new(s.centre_cm.x, s.centre_cm.z) + hips_cm, s.radius_cm))
+            .collect();
+        mask_of_soles(camera, &soles)
+    }
+
     #[test]
     fn a_shape_s_feet_are_its_ankles_with_their_toes() {
         let sphere = |joint, part| ShapeSphere { anchor: Anchor::Joint(joint), radius_cm: 5.0, part };
@@ -468,12 +479,7 @@ pub(crate) mod tests {
         // The hips truly at (0, 0), 5 m from the camera: the sole is there
         // in the image.
         let truth = DVec2::new(0.0, 0.0);
-        let soles: Vec<(DVec2, f64)> = body
-            .spheres
-            .iter()
-            .map(|s| (DVec2::new(s.centre_cm.x, s.centre_cm.z) + truth, s.radius_cm))
-            .collect();
-        let mask = mask_of_soles(&camera, &soles);
+        let mask = mask_of_body_soles(&camera, &body, truth);
         // The track 30 cm too far along the line of sight.
         let off = truth + DVec2::new(0.0, 30.0);
         let views = view_soles(&camera, &feet, &body, &mask, off);

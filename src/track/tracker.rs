@@ -298,12 +298,9 @@ impl Tracker {
         warnings.extend(foreground_warnings(&frames));
         let unseen: Vec<bool> =
             frames.iter().map(|f| f.confidence == 0.0 && f.height_cm.is_finite()).collect();
-        let unseen_count = unseen.iter().filter(|&&u| u).count();
-        if unseen_count > 0 {
+        if let Some(unseen) = flagged_frames(&unseen) {
             warnings.push(format!(
-                "the camera did not see the body well enough in video frames {} ({unseen_count} of {}): the suit's motion carries them",
-                frame_ranges(&unseen),
-                frames.len()
+                "the camera did not see the body well enough in video frames {unseen}: the suit's motion carries them"
             ));
         }
         Track { frames, warnings, details }
@@ -355,12 +352,9 @@ fn foreground_warnings(frames: &[TrackedFrame]) -> Vec<String> {
                 || f.difference_noise > MISMATCHED_BACKGROUND_NOISE
         })
         .collect();
-    let count = mismatched.iter().filter(|&&m| m).count();
-    if count > 0 {
+    if let Some(frames) = flagged_frames(&mismatched) {
         warnings.push(format!(
-            "the background does not match video frames {} ({count} of {}): most of each differs from it — was the still taken from another camera position, or did the light change?",
-            frame_ranges(&mismatched),
-            frames.len()
+            "the background does not match video frames {frames}: most of each differs from it — was the still taken from another camera position, or did the light change?"
         ));
     }
     let empty: Vec<bool> = frames
@@ -368,15 +362,19 @@ fn foreground_warnings(frames: &[TrackedFrame]) -> Vec<String> {
         .zip(&mismatched)
         .map(|(f, &mismatched)| !mismatched && f.foreground_share < EMPTY_ROOM_SHARE)
         .collect();
-    let count = empty.iter().filter(|&&e| e).count();
-    if count > 0 {
+    if let Some(frames) = flagged_frames(&empty) {
         warnings.push(format!(
-            "no one is in view in video frames {} ({count} of {}): nothing there differs from the background",
-            frame_ranges(&empty),
-            frames.len()
+            "no one is in view in video frames {frames}: nothing there differs from the background"
         ));
     }
     warnings
+}
+
+/// The frames where `flags` holds, as `3–7, 12 (6 of 40)`; `None` when
+/// there are none.
+fn flagged_frames(flags: &[bool]) -> Option<String> {
+    let count = flags.iter().filter(|&&f| f).count();
+    (count > 0).then(|| format!("{} ({count} of {})", frame_ranges(flags), flags.len()))
 }
 
 /// The frames where `flags` holds, as ranges: `3–7, 12, 40–41`.
