@@ -92,6 +92,24 @@ fn frames_with_no_one_in_view_are_named_and_the_track_holds_where_seen() {
     assert!(fused.frames.iter().all(|f| f.uncertainty_cm.is_finite()));
 }
 
+/// The depth from the soles: on `walk`, whose feet are seen on the floor,
+/// nothing is said; on the take filmed in code, whose suit-grade body
+/// never has a foot within 3 cm of the floor (it stands 6 cm up), the
+/// track says the depth rests on the silhouette.
+#[test]
+fn a_take_without_soles_on_the_floor_says_its_depth_rests_on_the_silhouette() {
+    let said = |warnings: &[String]| warnings.iter().any(|w| w.contains("rests on the silhouette"));
+    let size = ImageSize { width_px: 400, height_px: 300 };
+    let (recording, camera, background, frames, _) = film(25.0, 2.0, size, 0.0);
+    let method = TrackMethod::Fused(FusedParams::default());
+    let filmed = track(&recording, camera, &background, &frames, 25.0, method);
+    assert!(said(&filmed.warnings), "{:?}", filmed.warnings);
+    let Some(dir) = common::data_dir() else { return };
+    let scene = common::optical::open_scene(&dir.join("optical"), "walk");
+    let walk = track(&scene.recording, scene.camera, &scene.background, &scene.frames, scene.fps, method);
+    assert!(!said(&walk.warnings), "{:?}", walk.warnings);
+}
+
 #[test]
 fn a_background_from_another_camera_position_is_warned_about() {
     // The still taken from a camera moved: the room's pattern a stripe

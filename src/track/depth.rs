@@ -38,7 +38,8 @@ pub const PRIOR_BIAS_SIGMA_CM: f64 = 20.0;
 /// `track`, view) sighted from the track, the bias estimated and taken
 /// off, then sighted again from the corrected track (a sole looked for
 /// where the track first stood may be found at the edge of its window)
-/// and estimated once more. Per frame, each sighting's
+/// and estimated once more; what it found is a [`DepthCorrection`]. Per
+/// frame, each sighting's
 /// offset (how far beyond the track it puts the hips) weighs by its
 /// precision and by a Gaussian of [`BIAS_TIME_SIGMA_S`] in time; the
 /// weighted median finds the bulk, the weighted mean of the offsets within
@@ -53,13 +54,17 @@ pub fn correct_depth(
     views: &[(usize, SoleView)],
     camera: &Camera,
     dt_s: f64,
-) -> Vec<(f64, f64)> {
+) -> DepthCorrection {
     let mut corrections: Vec<(f64, f64)> = Vec::new();
+    let mut frames_sighted = 0;
     for _ in 0..2 {
         let sightings: Vec<(usize, SoleSighting)> = views
             .iter()
             .filter_map(|(i, view)| track.get(*i).and_then(|&p| view.sight(camera, p)).map(|s| (*i, s)))
             .collect();
+        let mut frames: Vec<usize> = sightings.iter().map(|(i, _)| *i).collect();
+        frames.dedup();
+        frames_sighted = frames.len();
         let more = bias_corrections(track, &sightings, camera, dt_s);
         corrections = if corrections.is_empty() {
             more
@@ -67,7 +72,17 @@ pub fn correct_depth(
             corrections.iter().zip(more).map(|(a, b)| (a.0 + b.0, b.1)).collect()
         };
     }
-    corrections
+    DepthCorrection { per_frame: corrections, frames_sighted }
+}
+
+/// What [`correct_depth`] did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DepthCorrection {
+    /// Per frame, how far the path was moved along the line of sight and
+    /// how uncertain that is (cm, one σ).
+    pub per_frame: Vec<(f64, f64)>,
+    /// In how many frames a sole was sighted (in the last round).
+    pub frames_sighted: usize,
 }
 
 /// One round of [`correct_depth`] from `sightings`.
@@ -222,7 +237,7 @@ mod tests {
                 view_soles(&camera, &feet, &body, &mask, track[i]).into_iter().map(move |v| (i, v))
             })
             .collect();
-        let corrections = correct_depth(&mut track, &views, &camera, 1.0 / 30.0);
+        let corrections = correct_depth(&mut track, &views, &camera, 1.0 / 30.0).per_frame;
         // From 15 cm to within about a row's depth (3.3 cm here) and what
         // the shrinking towards no correction leaves.
         for ((p, t), (correction, sigma)) in track.iter().zip(&truth).zip(&corrections) {

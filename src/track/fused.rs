@@ -45,7 +45,7 @@ use crate::track::path::{PathFrame, PathRecord, PathRequest, PathSearch};
 use crate::track::search::coarse_to_fine;
 use crate::track::setup::{FrameEstimate, TrackSetup};
 use crate::track::smoother::{FloorFilter, Measurement};
-use crate::track::soles::{Foot, SoleView, feet_of, is_planted, view_soles};
+use crate::track::soles::{Foot, PLANTED_CM, SoleView, feet_of, is_planted, view_soles};
 use crate::track::suit_motion::{BvhInstant, SuitMotion};
 
 /// embusen's tracker's parameters; each has its physical reason.
@@ -370,7 +370,8 @@ impl FusedTracker {
             let soles: Vec<(usize, SoleView)> =
                 self.soles.drain(..).filter_map(|(i, v)| i.checked_sub(first).map(|k| (k, v))).collect();
             let corrections = correct_depth(&mut smoothed, &soles, camera, dt_s);
-            for (variance, (_, sigma_cm)) in variances.iter_mut().zip(corrections) {
+            warnings.extend(self.soles_warning(corrections.frames_sighted));
+            for (variance, (_, sigma_cm)) in variances.iter_mut().zip(corrections.per_frame) {
                 *variance += sigma_cm * sigma_cm;
             }
             let (planted, steps_cm) = (self.planted.get(first..), self.steps_cm.get(first..));
@@ -386,6 +387,24 @@ impl FusedTracker {
         let before_first = self.back_from_first_fit(path.first().copied(), first, dt_s);
         path.splice(0..0, before_first);
         (Some(path), filter.mean_innovation(), warnings)
+    }
+
+    /// What the user should know when the planted feet were seldom seen:
+    /// in under [`MIN_SOLES_SEEN_SHARE`] of the frames where the suit has a
+    /// foot down, the depth along the line of sight rests on the
+    /// silhouette.
+    fn soles_warning(&self, frames_sighted: usize) -> Option<String> {
+        let down = self.planted.iter().filter(|&&p| p).count();
+        if down == 0 {
+            return Some(format!(
+                "the suit's pose has no foot within {PLANTED_CM} cm of the floor in any frame: no depth from the soles, the depth along the camera's line of sight rests on the silhouette"
+            ));
+        }
+        ((frames_sighted as f64) < MIN_SOLES_SEEN_SHARE * down as f64).then(|| {
+            format!(
+                "the feet on the floor were seen in {frames_sighted} of the {down} frames where the suit has one down: the depth along the camera's line of sight rests on the silhouette (the body small in the image, or its feet hidden or out of view)"
+            )
+        })
     }
 
     /// The frames read before the first fit (`first` of them), placed back
@@ -652,6 +671,11 @@ pub(crate) fn line_of_sight(camera: &Camera, floor_cm: DVec2) -> DVec2 {
 fn reacquire_after_frames(params: &FusedParams, dt_s: f64) -> usize {
     ((params.reacquire_after_s / dt_s).round() as usize).max(1)
 }
+
+/// Planted feet seen in fewer of the frames that have one than this leave
+/// the path's depth to the silhouette: one stance in four seen is about
+/// one sighting a second, where the bias is weighed over half a second.
+pub const MIN_SOLES_SEEN_SHARE: f64 = 0.25;
 
 /// How far either side of a fit (cm) the energy is probed for its curvature.
 const CURVATURE_STEP_CM: f64 = 10.0;

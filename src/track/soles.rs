@@ -176,11 +176,13 @@ pub fn view_soles(
         let margin_px = 2.0 + 0.5 * edge.half_width_px;
         let first = (edge.pixel.x - edge.half_width_px - margin_px).floor() as i64;
         let last = (edge.pixel.x + edge.half_width_px + margin_px).ceil() as i64;
-        views.push(SoleView {
-            sole,
-            first_column: first,
-            runs: (first..=last).map(|x| foreground_runs(foreground, x, top, bottom)).collect(),
-        });
+        let runs: Vec<Vec<(i64, i64)>> =
+            (first..=last).map(|x| foreground_runs(foreground, x, top, bottom)).collect();
+        // Nothing there (the foot hidden, or out of the image): not seen.
+        if runs.iter().all(Vec::is_empty) {
+            continue;
+        }
+        views.push(SoleView { sole, first_column: first, runs });
     }
     views
 }
@@ -216,6 +218,11 @@ impl SoleView {
         // blurred step of high contrast crosses the foreground's threshold
         // early, outside the edge, by about as much. The row itself it is.
         let row = lows[lows.len() / 2] as f64;
+        // Foreground down to the image's last row is a body the frame cuts
+        // off, not a sole on the floor.
+        if row + 1.0 >= f64::from(camera.image_size.height_px) {
+            return None;
+        }
         let seen = camera.floor_point(DVec2::new(edge.pixel.x, row))?;
         let next_row = camera.floor_point(DVec2::new(edge.pixel.x, row + 1.0))?;
         let seen_cm = DVec2::new(seen.x, seen.z);
