@@ -362,6 +362,40 @@ fn app_tracks(video: &Path, bvh: &Path, camera: &Path, background: &Path) -> (St
     (export.recording_text, export.track_csv)
 }
 
+/// A colour-less video (the same take made grey with ffmpeg) is tracked as
+/// the colour one: the tracker reads the luma, and a grey video's luma is
+/// the colour one's, give or take its codec.
+#[test]
+fn a_grey_video_is_tracked_as_its_colour_one() {
+    let Some(data) = common::data_dir() else { return };
+    let scene = data.join("optical");
+    let dir = scratch_dir("grey");
+    let path = |s: &str| scene.join(format!("slash{s}"));
+    let grey = dir.join("slash.grey.mp4");
+    let made = std::process::Command::new("ffmpeg")
+        .args(["-loglevel", "error", "-y", "-i"])
+        .arg(path(".mp4"))
+        .args(["-vf", "format=gray", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "18"])
+        .arg(&grey)
+        .status()
+        .expect("runs ffmpeg");
+    assert!(made.success());
+    let rows = |video: &Path, name: &str| {
+        let out = dir.join(format!("{name}.bvh"));
+        let (ok, said) =
+            track_cli(video, &path(".suit.bvh"), &path(".camera.json"), Some(&path(".background.png")), &out);
+        assert!(ok && !said.contains("background does not match"), "{said}");
+        let csv = std::fs::read_to_string(dir.join(format!("{name}.track.csv"))).unwrap();
+        embusen::io::hips_csv::parse_hips_csv(&csv, name).unwrap()
+    };
+    let (colour, grey) = (rows(&path(".mp4"), "colour"), rows(&grey, "grey"));
+    assert_eq!(colour.len(), grey.len());
+    let apart_cm = colour.iter().zip(&grey).map(|(c, g)| (c.hips_cm - g.hips_cm).length()).sum::<f64>()
+        / colour.len() as f64;
+    eprintln!("slash, grey against colour: {apart_cm:.2} cm apart on average");
+    assert!(apart_cm < 2.0, "{apart_cm:.2} cm");
+}
+
 /// One shared scene's figures with the true camera: the suit's own
 /// translation's mean error (cm), the paper's mean (on the four scenes the
 /// published method was measured on), the fused tracker's errors.
