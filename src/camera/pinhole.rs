@@ -113,6 +113,14 @@ impl Camera {
         self.world_from_camera().translation
     }
 
+    /// The direction on the floor (x, z, unit) of the camera's line of
+    /// sight through the floor point `floor_cm` (x, z): from below the
+    /// camera's centre towards it; zero right below the centre.
+    pub fn line_of_sight_on_floor(&self, floor_cm: DVec2) -> DVec2 {
+        let centre = self.center_in_world();
+        (floor_cm - DVec2::new(centre.x, centre.z)).normalize_or_zero()
+    }
+
     pub fn point_in_camera(&self, point_in_world: DVec3) -> DVec3 {
         self.camera_from_world.transform_point3(point_in_world)
     }

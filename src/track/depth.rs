@@ -45,10 +45,8 @@ pub const PRIOR_BIAS_SIGMA_CM: f64 = 20.0;
 /// weighted median finds the bulk, the weighted mean of the offsets within
 /// 2.5 σ of it estimates the bias, which is shrunk towards none by its
 /// uncertainty against [`PRIOR_BIAS_SIGMA_CM`] (one foot's sightings within
-/// [`STANCE_S`] counting as one). `sightings` are (frame index into
-/// `track`, sighting); frames are `dt_s` apart; the camera stands above
-/// `camera_floor_cm`. Returns each frame's correction and its uncertainty
-/// (cm along the line of sight, one σ).
+/// [`STANCE_S`] counting as one). Frames are `dt_s` apart, filmed by
+/// `camera`.
 pub fn correct_depth(
     track: &mut [DVec2],
     views: &[(usize, SoleView)],
@@ -85,15 +83,15 @@ pub struct DepthCorrection {
     pub frames_sighted: usize,
 }
 
-/// One round of [`correct_depth`] from `sightings`.
+/// One round of [`correct_depth`] from `sightings` (frame index into
+/// `track`, in frame order): each frame's correction and its uncertainty
+/// (cm along the line of sight, one σ).
 fn bias_corrections(
     track: &mut [DVec2],
     sightings: &[(usize, SoleSighting)],
     camera: &Camera,
     dt_s: f64,
 ) -> Vec<(f64, f64)> {
-    let centre = camera.center_in_world();
-    let camera_floor_cm = DVec2::new(centre.x, centre.z);
     let n = track.len();
     let offsets: Vec<(usize, f64, f64)> = sightings
         .iter()
@@ -105,9 +103,11 @@ fn bias_corrections(
     let prior = PRIOR_BIAS_SIGMA_CM * PRIOR_BIAS_SIGMA_CM;
     let mut corrections = Vec::with_capacity(n);
     for (i, p) in track.iter_mut().enumerate() {
-        let near: Vec<(f64, f64, f64)> = offsets
+        // The sightings come in frame order: the window is a slice of them.
+        let first = offsets.partition_point(|(j, _, _)| j + reach < i);
+        let last = offsets.partition_point(|(j, _, _)| *j <= i + reach);
+        let near: Vec<(f64, f64, f64)> = offsets[first..last]
             .iter()
-            .filter(|(j, _, _)| j.abs_diff(i) <= reach)
             .map(|&(j, offset, sigma)| {
                 let t = j.abs_diff(i) as f64 * dt_s / BIAS_TIME_SIGMA_S;
                 (offset, gaussian_weight(t) / (sigma * sigma), sigma)
@@ -134,7 +134,7 @@ fn bias_corrections(
         let variance = per_stance / weight * (scatter / stated).max(1.0);
         let gain = prior / (prior + variance);
         let correction = gain * estimate;
-        *p += (*p - camera_floor_cm).normalize_or_zero() * correction;
+        *p += camera.line_of_sight_on_floor(*p) * correction;
         corrections.push((correction, (gain * variance).sqrt()));
     }
     corrections
@@ -178,8 +178,6 @@ fn weighted_median(values: &[(f64, f64, f64)]) -> Option<f64> {
 /// worst exactly there, where the sole's sightings, which anchor both
 /// ends, are missing. Across `camera`'s line of sight the track stays.
 pub fn bridge_flights(track: &mut [DVec2], planted: &[bool], steps_cm: &[DVec2], dt_s: f64, camera: &Camera) {
-    let centre = camera.center_in_world();
-    let camera_floor_cm = DVec2::new(centre.x, centre.z);
     let n = track.len().min(planted.len()).min(steps_cm.len());
     let longest = (MAX_FLIGHT_S / dt_s).round() as usize;
     let mut i = 1;
@@ -202,7 +200,7 @@ pub fn bridge_flights(track: &mut [DVec2], planted: &[bool], steps_cm: &[DVec2],
                 let share = k as f64 / (flown.len() - 1) as f64;
                 let bridged = track[take_off] + flown[k] + drift * share;
                 let p = &mut track[take_off + k];
-                let along = (*p - camera_floor_cm).normalize_or_zero();
+                let along = camera.line_of_sight_on_floor(*p);
                 *p += along * (bridged - *p).dot(along);
             }
         }
@@ -222,13 +220,8 @@ mod tests {
         let (feet, body) = one_foot(DVec2::new(10.0, 20.0));
         let truth: Vec<DVec2> = (0..60).map(|i| DVec2::new(2.0 * i as f64, 0.0)).collect();
         // The silhouette's track 15 cm too far along the line of sight.
-        let mut track: Vec<DVec2> = truth
-            .iter()
-            .map(|&p| {
-                let centre = camera.center_in_world();
-                p + (p - DVec2::new(centre.x, centre.z)).normalize() * 15.0
-            })
-            .collect();
+        let mut track: Vec<DVec2> =
+            truth.iter().map(|&p| p + camera.line_of_sight_on_floor(p) * 15.0).collect();
         let views: Vec<(usize, SoleView)> = truth
             .iter()
             .enumerate()

@@ -191,8 +191,6 @@ pub struct FusedTracker {
     /// its step into the frame (cm).
     planted: Vec<bool>,
     steps_cm: Vec<DVec2>,
-    /// The camera, once a frame with a pose was read.
-    camera: Option<Camera>,
 }
 
 impl FusedTracker {
@@ -207,7 +205,6 @@ impl FusedTracker {
             soles: Vec::new(),
             planted: Vec::new(),
             steps_cm: Vec::new(),
-            camera: None,
         }
     }
 
@@ -328,7 +325,6 @@ impl FusedTracker {
             self.path.push(Some(record), request);
         }
         let feet = self.feet.get_or_insert_with(|| feet_of(&setup.shape));
-        self.camera = Some(setup.camera);
         let near_cm = filter.current().0;
         self.planted.push(feet.iter().any(|f| is_planted(f, body)));
         self.steps_cm.push(prediction.step_cm);
@@ -345,8 +341,9 @@ impl FusedTracker {
     /// smoother's, and that of the depth the soles corrected) (`None` when
     /// no frame had a pose: the frames stay as they were), the filter's
     /// mean squared innovation, and what the user should know: deferred
-    /// path energies that never came count as a fit not believed.
-    pub fn finish(mut self, dt_s: f64) -> (Option<Vec<SmoothedFrame>>, f64, Vec<String>) {
+    /// path energies that never came count as a fit not believed. The
+    /// frames are `dt_s` apart and were filmed by `camera`.
+    pub fn finish(mut self, camera: &Camera, dt_s: f64) -> (Option<Vec<SmoothedFrame>>, f64, Vec<String>) {
         let mut warnings = Vec::new();
         let never_came = self.path.give_up_pending();
         if never_came > 0 {
@@ -366,18 +363,16 @@ impl FusedTracker {
             searched.as_ref().unwrap_or(filter).smooth().into_iter().unzip();
         let mut variances: Vec<f64> = covariances.iter().map(|c| c.x_axis.x + c.y_axis.y).collect();
         let first = self.first_filtered.unwrap_or(0);
-        if let Some(camera) = &self.camera {
-            let soles: Vec<(usize, SoleView)> =
-                self.soles.drain(..).filter_map(|(i, v)| i.checked_sub(first).map(|k| (k, v))).collect();
-            let corrections = correct_depth(&mut smoothed, &soles, camera, dt_s);
-            warnings.extend(self.soles_warning(corrections.frames_sighted));
-            for (variance, (_, sigma_cm)) in variances.iter_mut().zip(corrections.per_frame) {
-                *variance += sigma_cm * sigma_cm;
-            }
-            let (planted, steps_cm) = (self.planted.get(first..), self.steps_cm.get(first..));
-            if let (Some(planted), Some(steps_cm)) = (planted, steps_cm) {
-                bridge_flights(&mut smoothed, planted, steps_cm, dt_s, camera);
-            }
+        let soles: Vec<(usize, SoleView)> =
+            self.soles.drain(..).filter_map(|(i, v)| i.checked_sub(first).map(|k| (k, v))).collect();
+        let corrections = correct_depth(&mut smoothed, &soles, camera, dt_s);
+        warnings.extend(self.soles_warning(corrections.frames_sighted));
+        for (variance, (_, sigma_cm)) in variances.iter_mut().zip(corrections.per_frame) {
+            *variance += sigma_cm * sigma_cm;
+        }
+        let (planted, steps_cm) = (self.planted.get(first..), self.steps_cm.get(first..));
+        if let (Some(planted), Some(steps_cm)) = (planted, steps_cm) {
+            bridge_flights(&mut smoothed, planted, steps_cm, dt_s, camera);
         }
         let mut path: Vec<SmoothedFrame> = smoothed
             .into_iter()
@@ -660,10 +655,11 @@ fn fused_truncation_px(camera: &Camera, params: &FusedParams, near_cm: DVec2) ->
 }
 
 /// The direction on the floor (x, z) of the camera's line of sight through
-/// `floor_cm`: from below the camera's centre towards it.
+/// `floor_cm` ([`Camera::line_of_sight_on_floor`]); +x right below the
+/// camera's centre, where any direction is as good.
 pub(crate) fn line_of_sight(camera: &Camera, floor_cm: DVec2) -> DVec2 {
-    let centre = camera.center_in_world();
-    (floor_cm - DVec2::new(centre.x, centre.z)).normalize_or(DVec2::X)
+    let along = camera.line_of_sight_on_floor(floor_cm);
+    if along == DVec2::ZERO { DVec2::X } else { along }
 }
 
 /// After this many frames of rejected fits the filter trusts the camera

@@ -366,12 +366,10 @@ impl SoleEdge {
 /// floor points nearest the camera under each of its spheres, the one
 /// lowest in the image.
 fn sole_edge(camera: &Camera, sole: &[SoleSphere], hips_cm: DVec2) -> Option<SoleEdge> {
-    let centre = camera.center_in_world();
-    let camera_floor_cm = DVec2::new(centre.x, centre.z);
     let mut best: Option<SoleEdge> = None;
     for sphere in sole {
         let under = sphere.offset_cm + hips_cm;
-        let along = (under - camera_floor_cm).normalize_or_zero();
+        let along = camera.line_of_sight_on_floor(under);
         if along == DVec2::ZERO {
             continue;
         }

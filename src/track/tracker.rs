@@ -270,7 +270,8 @@ impl Tracker {
             }
             TrackerState::Fused(fused) => {
                 let params = fused.params();
-                let (smoothed, mean_innovation, warnings) = fused.finish(1.0 / self.setup.timing.fps);
+                let (smoothed, mean_innovation, warnings) =
+                    fused.finish(&self.setup.camera, 1.0 / self.setup.timing.fps);
                 let smoothed: Vec<SmoothedFrame> = smoothed.unwrap_or_else(|| {
                     frames
                         .iter()
