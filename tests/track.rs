@@ -442,12 +442,7 @@ fn shared_scene_figures() -> Option<&'static Vec<SceneFigures>> {
                     track_errors(&floor, &truth)
                 };
                 let suit = SuitMotion::new(&scene.recording).unwrap();
-                let suit_floor: Vec<DVec2> = times
-                    .iter()
-                    .map(|&t| {
-                        SuitMotion::floor_at(&suit.suit_floor_cm, suit.instant(t)).unwrap_or(DVec2::NAN)
-                    })
-                    .collect();
+                let suit_floor = suit.suit_floor_at(&times);
                 let figures = SceneFigures {
                     name,
                     suit_mean_cm: track_errors(&suit_floor, &truth).mean_cm,

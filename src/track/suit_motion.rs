@@ -99,6 +99,16 @@ impl SuitMotion {
         Some(pa.iter().zip(pb).map(|(p, q)| p.lerp(*q, t)).collect())
     }
 
+    /// The suit's own translation (its hips' floor position, x, z, cm) at
+    /// each of `times_s` on the BVH's clock: what the suit alone says, to
+    /// measure the trackers against; NaN outside the BVH.
+    pub fn suit_floor_at(&self, times_s: &[f64]) -> Vec<DVec2> {
+        times_s
+            .iter()
+            .map(|&t| SuitMotion::floor_at(&self.suit_floor_cm, self.instant(t)).unwrap_or(DVec2::NAN))
+            .collect()
+    }
+
     /// A per-frame floor path read at `instant`.
     pub fn floor_at(path: &[DVec2], instant: BvhInstant) -> Option<DVec2> {
         let BvhInstant::Between { a, t } = instant else { return None };

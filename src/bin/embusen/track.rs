@@ -390,11 +390,8 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
         let background_still = path(".background.png");
         // The suit's own translation, read at the video's frames.
         let suit = SuitMotion::new(&recording)?;
-        let suit_floor: Vec<DVec2> = (0..truth.len())
-            .map(|i| {
-                SuitMotion::floor_at(&suit.suit_floor_cm, suit.instant(truth[i].time_s)).unwrap_or(DVec2::NAN)
-            })
-            .collect();
+        let times_s: Vec<f64> = truth.iter().map(|s| s.time_s).collect();
+        let suit_floor = suit.suit_floor_at(&times_s);
         rows.push(SceneRow {
             scene: name.clone(),
             method: "suit",
