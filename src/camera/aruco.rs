@@ -21,9 +21,9 @@
 //!    of the dictionary's correction bits).
 
 use calib_targets::aruco::Matcher;
-use glam::{DMat3, DVec2};
+use glam::DVec2;
 
-use super::homography::homography;
+use super::homography::{homography, map_point};
 
 /// A grey image borrowed, sampled between pixel centres.
 pub(super) struct Grey<'a> {
@@ -299,7 +299,7 @@ fn decode(image: &Grey, matcher: &Matcher, quad: [DVec2; 4], bits: usize, border
             let mut sum = 0.0;
             for (sx, sy) in [-0.25, 0.0, 0.25].into_iter().flat_map(|a| [(a, -0.25), (a, 0.0), (a, 0.25)]) {
                 let p = DVec2::new(cx as f64 + 0.5 + sx, cy as f64 + 0.5 + sy);
-                sum += image.at(project(&h, p)?);
+                sum += image.at(map_point(&h, p)?);
             }
             means.push(sum / 9.0);
         }
@@ -358,9 +358,4 @@ fn otsu(values: &[f64]) -> Option<f64> {
         }
     }
     Some(cut)
-}
-
-fn project(h: &DMat3, p: DVec2) -> Option<DVec2> {
-    let q = *h * p.extend(1.0);
-    (q.z.abs() > 1e-12).then(|| q.truncate() / q.z).filter(|p| p.is_finite())
 }

@@ -53,7 +53,7 @@ use super::aruco::Grey;
 use super::aruco::Marker;
 use super::aruco::find_markers;
 use super::board::{Board, BoardCorner};
-use super::homography::homography;
+use super::homography::{homography, map_point};
 use super::pinhole::ImageSize;
 use crate::error::Error;
 
@@ -178,7 +178,7 @@ fn markers_first(
     let decoded = seen.iter().map(|(m, _)| m.id).collect::<std::collections::BTreeSet<_>>().len();
     let agrees = |h: &DMat3, (m, b): &(Marker, [DVec2; 4])| {
         let side = (0..4).map(|k| (m.corners[k] - m.corners[(k + 1) % 4]).length()).sum::<f64>() / 4.0;
-        (0..4).all(|k| project(h, Some(b[k])).is_some_and(|p| (p - m.corners[k]).length() < 0.2 * side))
+        (0..4).all(|k| map_point(h, b[k]).is_some_and(|p| (p - m.corners[k]).length() < 0.2 * side))
     };
     let fit_markers = |group: &[&(Marker, [DVec2; 4])]| {
         let (from, to): (Vec<DVec2>, Vec<DVec2>) =
@@ -219,7 +219,9 @@ fn markers_first(
                 })
             })
             .collect();
-        if let Some(p) = fit_markers(&near).and_then(|h| project(&h, board.corner_on_board(id))) {
+        if let Some(p) =
+            fit_markers(&near).and_then(|h| board.corner_on_board(id).and_then(|b| map_point(&h, b)))
+        {
             seeds.insert(id, p);
         }
     }
@@ -326,7 +328,7 @@ fn complete(board: &Board, image: &Grey, seeds: &BTreeMap<u32, DVec2>) -> Vec<Bo
             if placed.contains_key(&id) || !has_placed_neighbour(board, &placed, id) {
                 continue;
             }
-            if let Some(p) = project(homography, board.corner_on_board(id)) {
+            if let Some(p) = board.corner_on_board(id).and_then(|b| map_point(homography, b)) {
                 candidates.push((id, p));
             }
         }
@@ -359,20 +361,15 @@ fn fit(board: &Board, corners: &BTreeMap<u32, DVec2>) -> Option<DMat3> {
     homography(&on_board, &pixels)
 }
 
-fn project(h: &DMat3, on_board: Option<DVec2>) -> Option<DVec2> {
-    let q = *h * on_board?.extend(1.0);
-    (q.z.abs() > 1e-12).then(|| q.truncate() / q.z).filter(|p| p.is_finite())
-}
-
 /// Corner `id` refined from `start`, if it converges within a fifth of a
 /// square of it and shows the chessboard pattern around it.
 fn place(board: &Board, image: &Grey, h: &DMat3, id: u32, start: DVec2) -> Option<DVec2> {
     let on_board = board.corner_on_board(id)?;
     let square = board.square_cm;
     // The square's size in pixels here, the shorter way.
-    let here = project(h, Some(on_board))?;
-    let along = (project(h, Some(on_board + DVec2::new(square, 0.0)))? - here).length();
-    let down = (project(h, Some(on_board + DVec2::new(0.0, square)))? - here).length();
+    let here = map_point(h, on_board)?;
+    let along = (map_point(h, on_board + DVec2::new(square, 0.0))? - here).length();
+    let down = (map_point(h, on_board + DVec2::new(0.0, square))? - here).length();
     let square_px = along.min(down);
     if square_px.is_nan() || square_px < 4.0 {
         return None;
@@ -445,7 +442,7 @@ fn symmetric_centre(image: &Grey, start: DVec2, radius: f64) -> Option<DVec2> {
 /// `(square − marker)/2` in), where the homography places them.
 fn chessboard_pattern(board: &Board, image: &Grey, h: &DMat3, id: u32, at: DVec2) -> bool {
     let Some(on_board) = board.corner_on_board(id) else { return false };
-    let Some(here) = project(h, Some(on_board)) else { return false };
+    let Some(here) = map_point(h, on_board) else { return false };
     let margin = (board.square_cm - board.marker_cm) / 2.0;
     let reach = (0.5 * margin).min(0.1 * board.square_cm);
     let per_row = board.squares_x - 1;
@@ -453,7 +450,7 @@ fn chessboard_pattern(board: &Board, image: &Grey, h: &DMat3, id: u32, at: DVec2
     let (mut dark, mut light) = (Vec::new(), Vec::new());
     for (si, sj) in [(i - 1, j - 1), (i, j - 1), (i - 1, j), (i, j)] {
         let toward = DVec2::new(if si < i { -1.0 } else { 1.0 }, if sj < j { -1.0 } else { 1.0 });
-        let Some(p) = project(h, Some(on_board + toward * reach)) else { return false };
+        let Some(p) = map_point(h, on_board + toward * reach) else { return false };
         let value = image.at(p - here + at);
         // The top-left square is black unless the legacy pattern makes it white.
         let black = ((si + sj) % 2 == 0) != board.top_left_is_white();
@@ -487,7 +484,7 @@ mod tests {
         let codes = resolve_dictionary(board.dictionary).unwrap().codes();
         let board_from_image = image_from_board.inverse();
         let shade = |p: DVec2| -> f64 {
-            let b = project(&board_from_image, Some(p)).unwrap();
+            let b = map_point(&board_from_image, p).unwrap();
             let size = DVec2::new(board.squares_x as f64, board.squares_y as f64) * board.square_cm;
             if b.x < -4.0 || b.y < -4.0 || b.x > size.x + 4.0 || b.y > size.y + 4.0 {
                 // Planks: light and dark boards a few pixels wide.
@@ -561,7 +558,10 @@ mod tests {
         let off_px: Vec<f64> = found
             .corners
             .iter()
-            .map(|c| (c.pixel - project(&image_from_board, board.corner_on_board(c.id)).unwrap()).length())
+            .map(|c| {
+                (c.pixel - board.corner_on_board(c.id).and_then(|b| map_point(&image_from_board, b)).unwrap())
+                    .length()
+            })
             .collect();
         let rms_px = (off_px.iter().map(|d| d * d).sum::<f64>() / off_px.len() as f64).sqrt();
         let max_px = off_px.iter().copied().fold(0.0, f64::max);

@@ -13,6 +13,13 @@ use glam::{DAffine2, DAffine3, DMat3, DVec2, DVec3};
 use super::least_squares::symmetric_eigen;
 use super::pinhole::ImageSize;
 
+/// The point `H · p` (homogeneous, divided out); `None` where it goes to
+/// infinity (a point on the plane's horizon).
+pub fn map_point(h: &DMat3, p: DVec2) -> Option<DVec2> {
+    let q = *h * p.extend(1.0);
+    (q.z.abs() > 1e-12).then(|| q.truncate() / q.z).filter(|p| p.is_finite())
+}
+
 /// The homography `H` with `to ≈ H · from` (homogeneous), by the direct
 /// linear transform on Hartley-normalised points; `None` for fewer than 4
 /// points or points on a line.
