@@ -44,7 +44,9 @@ use crate::track::measurement::{largest_sigma_cm, measurement_covariance};
 use crate::track::path::{PathFrame, PathRecord, PathRequest, PathSearch};
 use crate::track::search::coarse_to_fine;
 use crate::track::setup::{FrameEstimate, TrackSetup};
-use crate::track::smoother::{FloorFilter, Measurement};
+use crate::track::smoother::FloorFilter;
+use crate::track::smoother::Measurement;
+use crate::track::smoother::frames_per_error;
 use crate::track::soles::{Foot, PLANTED_CM, SoleView, feet_of, is_planted, view_soles};
 use crate::track::suit_motion::{BvhInstant, SuitMotion};
 
@@ -260,7 +262,7 @@ impl FusedTracker {
         };
         let before_cm = Some(filter.current().0);
         let dt = 1.0 / setup.timing.fps;
-        let step_sigma_cm = params.stride_error * step_cm.length() + params.drift_cm_per_s * dt;
+        let step_sigma_cm = step_sigma_cm(params, step_cm, dt);
         let (predicted, covariance) = filter.predict(step_cm, step_sigma_cm);
         let spread = largest_sigma_cm(covariance);
         let radius_cm = (params.search_sigmas * spread).clamp(params.min_search_cm, params.max_search_cm);
@@ -318,7 +320,7 @@ impl FusedTracker {
             && fit.confidence() >= params.min_confidence
         {
             measured.believable = true;
-            scoring.measure(filter, body, p, &fit, &mut measured);
+            scoring.measure(filter, body, p, &fit, &mut measured, dt);
         }
         if params.path_reach_cm > 0.0 && params.path_spacing_cm > 0.0 {
             let (record, request) = scoring.path_record(prediction, &measured, self.path.is_deferred(), i);
@@ -354,7 +356,7 @@ impl FusedTracker {
         let params = &self.params;
         let searched = self.path.refilter(
             filter,
-            params.path_temperature_px,
+            params.path_temperature_px * frames_per_error(dt_s),
             params.path_spacing_cm,
             dt_s,
             reacquire_after_frames(params, dt_s),
@@ -415,7 +417,7 @@ impl FusedTracker {
         let mut before = vec![at; first];
         for k in (0..first).rev() {
             let step = self.steps_cm.get(k + 1).copied().unwrap_or(DVec2::ZERO);
-            let sigma = self.params.stride_error * step.length() + self.params.drift_cm_per_s * dt_s;
+            let sigma = step_sigma_cm(&self.params, step, dt_s);
             at = SmoothedFrame {
                 floor_cm: at.floor_cm - step,
                 uncertainty_cm: (at.uncertainty_cm * at.uncertainty_cm + sigma * sigma).sqrt(),
@@ -473,6 +475,7 @@ impl<'a> FrameScoring<'a> {
         p: DVec2,
         fit: &SilhouetteFit,
         measured: &mut Measured,
+        dt_s: f64,
     ) {
         let params = self.params;
         let sigma_px = params.match_sigma_px / fit.confidence();
@@ -499,6 +502,9 @@ impl<'a> FrameScoring<'a> {
                 basis * DMat2::from_diagonal(DVec2::new(r.min(limit), a.min(limit))) * basis.transpose()
             })
         });
+        // Within one error's time the frames repeat it: each counts as that
+        // share of one.
+        let covariance = covariance.map(|c| c * frames_per_error(dt_s));
         if let Some(covariance) = covariance {
             measured.across_variance_cm2 = Some(across.dot(covariance * across));
             match filter.update(p, covariance) {
@@ -666,6 +672,13 @@ pub(crate) fn line_of_sight(camera: &Camera, floor_cm: DVec2) -> DVec2 {
 /// again ([`FusedParams::reacquire_after_s`] at `dt_s` a frame, at least 1).
 fn reacquire_after_frames(params: &FusedParams, dt_s: f64) -> usize {
     ((params.reacquire_after_s / dt_s).round() as usize).max(1)
+}
+
+/// The suit's step `step_cm` into a frame `dt_s` after the last, and how
+/// uncertain it is (cm, one σ): its stride error, and the drift where the
+/// body barely moves, as [`frames_per_error`] shares them out.
+fn step_sigma_cm(params: &FusedParams, step_cm: DVec2, dt_s: f64) -> f64 {
+    (params.stride_error * step_cm.length() + params.drift_cm_per_s * dt_s) * frames_per_error(dt_s).sqrt()
 }
 
 /// Planted feet seen in fewer of the frames that have one than this leave

@@ -21,6 +21,7 @@ use glam::{DMat2, DVec2};
 
 use crate::error::Error;
 use crate::track::smoother::FloorFilter;
+use crate::track::smoother::frames_per_error;
 
 /// One frame's candidates and how the body was expected to move into it.
 #[derive(Clone, Debug, PartialEq)]
@@ -242,7 +243,8 @@ impl PathSearch {
             })
             .collect();
         let chosen = best_path(&frames, temperature_px);
-        let along_variance = spacing_cm * spacing_cm;
+        // One candidate's spacing of uncertainty per independent error.
+        let along_variance = spacing_cm * spacing_cm * frames_per_error(dt_s);
         let measurement = |r: &PathRecord, k: usize| {
             let across = r.along.perp();
             let basis = DMat2::from_cols(r.along, across);

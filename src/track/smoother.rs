@@ -50,6 +50,23 @@ struct Filtered {
     covariance: DMat4,
 }
 
+/// Frames closer in time than this (s) repeat one error rather than add
+/// another: the body model's mismatch with the actor and the suit's step
+/// error both belong to a pose, and a pose changes in about this time (a
+/// limb swinging at 3 m/s moves its own width, 10 cm). A take filmed
+/// faster is worth no more per second than one filmed at this rate.
+pub const ERROR_TIME_S: f64 = 1.0 / 30.0;
+
+/// How many frames `dt_s` apart share one independent error (at least
+/// one): per frame, the camera's measurements and the path search's
+/// energies count as that share of one, and the suit's steps are that
+/// many times less certain in variance (a random walk's variance grows
+/// with time, not with how finely it is cut). At 30 fps or slower
+/// nothing changes.
+pub fn frames_per_error(dt_s: f64) -> f64 {
+    (ERROR_TIME_S / dt_s).max(1.0)
+}
+
 /// What happened to a measurement offered to [`FloorFilter::update`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Measurement {
