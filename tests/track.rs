@@ -259,6 +259,9 @@ fn track_writes_a_bvh_and_a_row_per_frame_and_refuses_bad_input() {
     // it too: an offset that is no time.
     let nan = track_cli_with(&["--offset-s", "NaN"], &video, &bvh, &camera, Some(&background), &out);
     refused(nan, "the time offset");
+    // An output folder that is not there, said before tracking.
+    let nowhere = dir.join("no such folder").join("walk.bvh");
+    refused(track_cli(&video, &bvh, &camera, Some(&background), &nowhere), "does not exist");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

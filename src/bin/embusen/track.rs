@@ -242,6 +242,19 @@ fn csv_path(output: &Path) -> PathBuf {
     output.with_extension("track.csv")
 }
 
+/// `output`'s folder is there to write into: checked before the take is
+/// tracked, which may take minutes, not after.
+fn output_folder_exists(output: &Path) -> Result<(), Error> {
+    let folder = output.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    if folder.is_dir() {
+        return Ok(());
+    }
+    Err(Error::whole(
+        &output.display().to_string(),
+        format!("cannot be written: its folder {} does not exist (nothing was tracked)", folder.display()),
+    ))
+}
+
 pub fn run_track(args: &TrackArgs) -> ExitCode {
     match track(args) {
         Ok(()) => ExitCode::SUCCESS,
@@ -253,6 +266,7 @@ pub fn run_track(args: &TrackArgs) -> ExitCode {
 }
 
 fn track(args: &TrackArgs) -> Result<(), Error> {
+    output_folder_exists(&args.output)?;
     let recording = read_recording(&args.bvh)?;
     let camera = match (&args.camera, &args.board) {
         (Some(path), _) => read_camera(path)?,
