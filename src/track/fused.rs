@@ -94,7 +94,10 @@ pub struct FusedParams {
     /// ... this far apart (cm) ...
     pub path_spacing_cm: f64,
     /// ... and takes an energy this much (px) above the frame's least as
-    /// one nat of cost.
+    /// one nat of cost: by default twice [`ENERGY_NOISE_PX`], the scale at
+    /// which the filter's measurement reads the same energy (a fit is as
+    /// uncertain as moves its energy by the noise: ½ κ σ² = noise, so a
+    /// rise ΔE is ΔE / 2·noise nats). One noise model for both.
     pub path_temperature_px: f64,
     /// Below this confidence a fit is not used.
     pub min_confidence: f64,
@@ -127,7 +130,7 @@ impl FusedParams {
         band_cm: 5.0,
         path_reach_cm: 100.0,
         path_spacing_cm: 4.0,
-        path_temperature_px: 0.025,
+        path_temperature_px: 2.0 * ENERGY_NOISE_PX,
         min_confidence: 0.2,
         reacquire_after_s: 0.5,
         start_search_cm: 80.0,
@@ -692,7 +695,7 @@ const CURVATURE_STEP_CM: f64 = 10.0;
 /// How uncertain a fit's energy is (px): the mean truncated distance over a
 /// few hundred contour pixels, each good to a pixel or so, but neighbours
 /// err together.
-const ENERGY_NOISE_PX: f64 = 0.1;
+pub const ENERGY_NOISE_PX: f64 = 0.1;
 
 /// A measurement is never taken as more uncertain than this (cm, one σ):
 /// past it, it might as well not be.
