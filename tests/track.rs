@@ -517,7 +517,7 @@ fn the_fused_tracker_meets_the_acceptance_figures() {
 /// A camera twice as fast sees the same errors twice as often, not twice
 /// as many errors: the filter and the path search grow no more certain
 /// per second, and a take filmed at 60 fps is tracked as well as at 30.
-/// Before they counted repeats as one: 7.6 cm at 60 fps, 5.3 at 30.
+/// While each repeat counted as a new error: 7.6 cm at 60 fps, 5.3 at 30.
 #[test]
 fn a_take_filmed_at_60_fps_is_tracked_as_well_as_at_30() {
     let size = ImageSize { width_px: 400, height_px: 300 };

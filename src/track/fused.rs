@@ -359,7 +359,7 @@ impl FusedTracker {
         let params = &self.params;
         let searched = self.path.refilter(
             filter,
-            params.path_temperature_px * frames_per_error(dt_s),
+            params.path_temperature_px,
             params.path_spacing_cm,
             dt_s,
             reacquire_after_frames(params, dt_s),

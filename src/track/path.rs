@@ -211,7 +211,8 @@ impl PathSearch {
 
     /// The forward filter run again with the best path's choices as its
     /// measurements (along the line of sight as uncertain as the
-    /// candidates' `spacing_cm`, across as the fits were), ready for
+    /// candidates' `spacing_cm`, across as the fits were; frames `dt_s`
+    /// apart, each counting as [`frames_per_error`]'s share), ready for
     /// smoothing; `None` when the search had no frames or does not match
     /// `first_pass` (which starts at the first frame with a pose, as the
     /// records do).
@@ -242,9 +243,11 @@ impl PathSearch {
                 )
             })
             .collect();
-        let chosen = best_path(&frames, temperature_px);
-        // One candidate's spacing of uncertainty per independent error.
-        let along_variance = spacing_cm * spacing_cm * frames_per_error(dt_s);
+        // Frames within one error's time repeat it: their energies count
+        // as that share of one, and a chosen candidate is as much less sure.
+        let share = frames_per_error(dt_s);
+        let chosen = best_path(&frames, temperature_px * share);
+        let along_variance = spacing_cm * spacing_cm * share;
         let measurement = |r: &PathRecord, k: usize| {
             let across = r.along.perp();
             let basis = DMat2::from_cols(r.along, across);

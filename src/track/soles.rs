@@ -266,8 +266,7 @@ fn foreground_runs(mask: &Mask, x: i64, top: f64, bottom: f64) -> Vec<(i64, i64)
 }
 
 /// A round patch of the body's image: a sphere's, or a point of a cone
-/// between two (then `sphere` is the cone's end nearer the hips' side
-/// of the list, `sphere_b` the other).
+/// between two (then `sphere` is the cone's end nearer that point).
 struct ImageDisc {
     centre_px: DVec2,
     radius_px: f64,

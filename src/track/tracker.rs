@@ -244,7 +244,7 @@ impl Tracker {
             }
         };
         let mask = &foreground.foreground;
-        let foreground_share = mask.on.iter().filter(|&&on| on).count() as f64 / mask.on.len().max(1) as f64;
+        let foreground_share = mask.count() as f64 / mask.on.len().max(1) as f64;
         frames.push(TrackedFrame {
             foreground_share,
             difference_noise: foreground.noise_sd as f64,
