@@ -534,3 +534,52 @@ fn a_take_filmed_at_60_fps_is_tracked_as_well_as_at_30() {
     }
     assert!(means_cm[1] <= 1.25 * means_cm[0] + 0.5, "{means_cm:?} cm at 30 and 60 fps");
 }
+
+/// Someone else in the room: a second body, in another instant's pose,
+/// walks nearer the camera and beside the actor for the whole take, so it
+/// is the lowest and the first foreground the tracker could take. The
+/// actor starts 1.5 m from the floor's origin, so no guess at the origin
+/// finds them either. The track must stay on the actor — the body whose
+/// outline is the suit's pose — as well as without the other. (Before the
+/// first frame looked at each blob of foreground, it took the other
+/// person: 216 cm off.)
+#[test]
+fn a_second_person_nearer_the_camera_does_not_take_the_track() {
+    let size = ImageSize { width_px: 400, height_px: 300 };
+    let fps = 25.0;
+    let method = TrackMethod::Fused(FusedParams::default());
+    let (recording, camera, background, alone, truth) = film(fps, 3.0, size, 0.0);
+    let (_, _, _, other_frames, _) = film(fps, 3.0, size, 1.3);
+    let (w, h) = (size.width_px as i64, size.height_px as i64);
+    let mut frames = alone.clone();
+    for (frame, other) in frames.iter_mut().zip(&other_frames) {
+        // The other take's body, moved 90 px left and 45 px down (nearer
+        // the camera on the floor) and painted a little lighter.
+        for y in 0..h {
+            for x in 0..w {
+                let (sx, sy) = (x + 90, y - 45);
+                if sx >= w || sy < 0 {
+                    continue;
+                }
+                let from = (sy * w + sx) as usize;
+                if other.pixels[from] < 100 && background.pixels[from] >= 100 {
+                    frame.pixels[(y * w + x) as usize] = 80;
+                }
+            }
+        }
+    }
+    // The same pictures with the world's origin moved.
+    let start_cm = DVec2::new(150.0, 100.0);
+    let mut camera = camera;
+    camera.camera_from_world *=
+        glam::DAffine3::from_translation(glam::DVec3::new(-start_cm.x, 0.0, -start_cm.y));
+    let truth: Vec<DVec2> = truth.iter().map(|&t| t + start_cm).collect();
+    let lone = track(&recording, camera, &background, &alone, fps, method);
+    let lone_cm = mean_error_cm(&lone, &truth, DVec2::ZERO);
+    let fused = track(&recording, camera, &background, &frames, fps, method);
+    let error_cm = mean_error_cm(&fused, &truth, DVec2::ZERO);
+    eprintln!(
+        "an actor 1.5 m from the origin: fused {lone_cm:.2} cm alone, {error_cm:.2} cm with a second person"
+    );
+    assert!(error_cm <= lone_cm + 2.0 && error_cm < 25.0, "{error_cm:.2} cm, alone {lone_cm:.2} cm");
+}

@@ -11,6 +11,7 @@
 
 pub mod background;
 pub mod canny;
+pub mod components;
 pub mod distance;
 pub mod grey;
 pub mod morphology;

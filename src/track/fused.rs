@@ -37,6 +37,7 @@ use glam::{DMat2, DVec2, DVec3};
 
 use crate::body::shape::{BodyShape, PosedBody};
 use crate::camera::Camera;
+use crate::image::components::blobs;
 use crate::image::pipeline::Features;
 use crate::track::depth::{bridge_flights, correct_depth};
 use crate::track::energy::{BandedBody, FrameTerms, Scorer, SilhouetteFit};
@@ -295,7 +296,10 @@ impl FusedTracker {
         let params = self.params;
         let (prediction_cm, radius_cm) = match prediction.predicted {
             Some(p) => p,
-            None => (first_guess(&setup.camera, scorer, features, body), params.start_search_cm),
+            None => {
+                let radius_cm = params.start_search_cm;
+                (first_guess(setup, &params, scorer, features, body, radius_cm), radius_cm)
+            }
         };
         let mut scoring = FrameScoring::new(setup, &params, scorer, body, features, prediction_cm);
         let fit = scoring.search(prediction_cm, radius_cm);
@@ -574,31 +578,45 @@ impl<'a> FrameScoring<'a> {
     }
 }
 
-/// Where to look for the body in the first frame: the floor below the
-/// foreground's lowest pixels (the feet stand on the floor), or the
-/// world's origin (where the board is, and where the paper has the actor
-/// start) when there is no foreground, whichever fits better.
-fn first_guess(camera: &Camera, scorer: &mut Scorer, features: &Features, body: &PosedBody) -> DVec2 {
-    let mask = &features.foreground;
-    let (w, h) = (mask.width_px as usize, mask.height_px as usize);
+/// Where to start looking for the body before any fit: the floor's origin
+/// (where a take usually starts, on the board) and the feet of each of the
+/// [`GUESSED_BLOBS`] largest parts of the foreground — the actor, and
+/// anyone else in the room. Each is searched within `radius_cm` and the
+/// least energy wins: the body whose outline is the suit's pose, not
+/// merely the nearest or the lowest in the image.
+fn first_guess(
+    setup: &TrackSetup,
+    params: &FusedParams,
+    scorer: &mut Scorer,
+    features: &Features,
+    body: &PosedBody,
+    radius_cm: f64,
+) -> DVec2 {
+    let found = blobs(&features.foreground);
+    let largest = found.first().map_or(0, |b| b.area_px);
     let mut guesses = vec![DVec2::ZERO];
-    if let Some(bottom) =
-        (0..h).rev().find(|&y| mask.on[y * w..(y + 1) * w].iter().filter(|&&o| o).count() >= 3)
-    {
-        let row = &mask.on[bottom * w..(bottom + 1) * w];
-        let xs: Vec<usize> = (0..w).filter(|&x| row[x]).collect();
-        let x = xs[xs.len() / 2] as f64;
-        if let Some(floor) = camera.floor_point(DVec2::new(x, bottom as f64)) {
+    for blob in found.iter().take(GUESSED_BLOBS).filter(|b| b.area_px * 8 >= largest) {
+        let feet_px = DVec2::new(blob.bottom_column, f64::from(blob.bottom_row));
+        if let Some(floor) = setup.camera.floor_point(feet_px) {
             guesses.push(DVec2::new(floor.x, floor.z));
         }
     }
-    let terms = FrameTerms::new(&features.edge_distance, &features.outside_distance, mask, 8.0);
-    guesses
-        .into_iter()
-        .map(|g| (g, scorer.plain_fit(&terms, body, g).map_or(f64::INFINITY, |f| f.fused_energy(1.0, 0.0))))
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .map_or(DVec2::ZERO, |(g, _)| g)
+    let mut best = (DVec2::ZERO, f64::INFINITY);
+    for guess in guesses {
+        let mut scoring = FrameScoring::new(setup, params, scorer, body, features, guess);
+        let Some((_, fit)) = scoring.search(guess, radius_cm) else { continue };
+        let energy = fit.fused_energy(params.mask_weight, params.uncovered_weight);
+        if energy < best.1 {
+            best = (guess, energy);
+        }
+    }
+    best.0
 }
+
+/// How many of the foreground's largest parts the first frame looks at
+/// (those at least an eighth of the largest): the actor and a few others
+/// in the room; the rest are specks.
+pub const GUESSED_BLOBS: usize = 4;
 
 /// The fused energy of `body` at `floor_cm`; NaN where it is not in the image.
 fn fused_energy(
