@@ -22,6 +22,127 @@ pub fn difference(frame: &GreyImage, background: &GreyImage, label: &str) -> Res
     Ok(GreyImage { width_px: frame.width_px, height_px: frame.height_px, pixels })
 }
 
+/// How a frame's exposure compares with the background's. A
+/// camera's exposure, gain and auto exposure scale every pixel's light
+/// alike (and so its encoded value, a power of the light, alike too), so a
+/// still taken a moment earlier, or a camera that adapted when the actor
+/// walked in, differs from the frame by one factor; left alone, 8 % of it
+/// turns the whole room into foreground. First the median of frame ÷
+/// background (the actor covers well under half of the image, so it is
+/// the room's), then, over the pixels that factor explains within
+/// [`EXPOSURE_MATCH_LEVELS`], the ratio of their sums: the median's
+/// quantised ratios refined by tens of thousands of pixels. Pixels too
+/// dark to give a ratio (below 32) or clipped (255) are left out, and every
+/// other row and column is enough. [`Exposure::SAME`] when fewer than 1 %
+/// of the pixels can be used or the sizes differ. Integer arithmetic: the
+/// same in the CLI and the browser.
+pub fn exposure(frame: &GreyImage, background: &GreyImage) -> Exposure {
+    const TOP: usize = 1024;
+    if !frame.same_size(background.width_px, background.height_px) {
+        return Exposure::SAME;
+    }
+    let w = frame.width_px as usize;
+    let usable = |i: usize| {
+        let (f, b) = (u32::from(frame.pixels[i]), u32::from(background.pixels[i]));
+        ((32..255).contains(&b) && f < 255).then_some((f, b))
+    };
+    let sampled = || {
+        (0..frame.height_px as usize)
+            .step_by(2)
+            .flat_map(move |y| (0..w).step_by(2).map(move |x| y * w + x))
+            .filter_map(usable)
+    };
+    let mut histogram = vec![0u32; TOP];
+    let mut count = 0usize;
+    for (f, b) in sampled() {
+        histogram[(((f * 256 + b / 2) / b) as usize).min(TOP - 1)] += 1;
+        count += 1;
+    }
+    if count * 100 < frame.pixels.len() / 4 {
+        return Exposure::SAME;
+    }
+    let mut below = 0usize;
+    let median_256 = histogram
+        .iter()
+        .position(|&n| {
+            below += n as usize;
+            2 * below >= count
+        })
+        .unwrap_or(256) as u64;
+    let (mut sum_f, mut sum_b, mut kept) = (0u64, 0u64, 0u64);
+    for (f, b) in sampled() {
+        let predicted_256 = u64::from(b) * median_256;
+        if u64::from(f) * 256 + EXPOSURE_MATCH_LEVELS * 256 >= predicted_256
+            && u64::from(f) * 256 <= predicted_256 + EXPOSURE_MATCH_LEVELS * 256
+        {
+            sum_f += u64::from(f);
+            sum_b += u64::from(b);
+            kept += 1;
+        }
+    }
+    if kept == 0 {
+        return Exposure::SAME;
+    }
+    Exposure {
+        ratio_4096: ((sum_f * 4096 + sum_b / 2) / sum_b).min(u64::from(u32::MAX)) as u32,
+        room_level: (sum_b / kept) as u32,
+    }
+}
+
+/// A frame's exposure against the background's ([`exposure`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Exposure {
+    /// The frame's light over the background's, in 4096ths.
+    pub ratio_4096: u32,
+    /// The mean grey level of the room's pixels it was measured on.
+    pub room_level: u32,
+}
+
+impl Exposure {
+    /// No change.
+    pub const SAME: Exposure = Exposure { ratio_4096: 4096, room_level: 0 };
+
+    /// How far (grey levels) the exposure moves the room's mean level.
+    pub fn shift_levels(&self) -> f32 {
+        (self.ratio_4096.abs_diff(4096) as f32) * (self.room_level as f32) / 4096.0
+    }
+}
+
+/// `|frame − background|`, the background first brought to the frame's
+/// exposure ([`exposure`]) where the two differ by more than the noise: a
+/// shift within the sensor's own noise is the noise, which the threshold is
+/// set from; beyond it (a still taken at another exposure) the room would
+/// turn to foreground. An error for `label` when the sizes differ.
+pub fn exposure_matched_difference(
+    frame: &GreyImage,
+    background: &GreyImage,
+    label: &str,
+) -> Result<GreyImage, Error> {
+    let raw = difference(frame, background, label)?;
+    let exposure = exposure(frame, background);
+    if exposure.ratio_4096 == 4096 {
+        return Ok(raw);
+    }
+    let matched = difference(frame, &exposed(background, exposure.ratio_4096), label)?;
+    Ok(if exposure.shift_levels() <= noise_sd(&matched) { raw } else { matched })
+}
+
+/// A pixel within this many grey levels of the background at the median's
+/// exposure is the room (the noise of a camera and its codec, 1–4 levels,
+/// three times over); farther, it is the actor or their shadow.
+pub const EXPOSURE_MATCH_LEVELS: u64 = 8;
+
+/// `background` as the camera would have seen it at `ratio_4096` / 4096 of
+/// its exposure (see [`exposure`]), clipped at 255.
+pub fn exposed(background: &GreyImage, ratio_4096: u32) -> GreyImage {
+    let pixels = background
+        .pixels
+        .iter()
+        .map(|&b| ((u64::from(b) * u64::from(ratio_4096) + 2048) >> 12).min(255) as u8)
+        .collect();
+    GreyImage { width_px: background.width_px, height_px: background.height_px, pixels }
+}
+
 /// How many frames, spread over a video, its median background is taken of
 /// when there is no still of the empty room: an odd count, plenty for a
 /// median (see [`median_background`]).
@@ -173,6 +294,37 @@ mod tests {
         assert_eq!(difference(&a, &b, "f").unwrap().pixels, vec![10, 100, 0]);
         let e = difference(&a, &GreyImage::filled(1, 3, 0), "frame 4").unwrap_err();
         assert_eq!(e.to_string(), "frame 4: a frame of 3×1 pixels against a background of 1×3");
+    }
+
+    #[test]
+    fn a_frame_exposed_otherwise_is_matched_by_one_factor() {
+        // A room of 40..=240, seen 10 % brighter, an actor of 0 over a third.
+        let room: Vec<u8> = (0..3000u32).map(|i| (40 + i % 201) as u8).collect();
+        let background = GreyImage::new(100, 30, room.clone(), "b").unwrap();
+        let mut pixels: Vec<u8> = room.iter().map(|&b| ((b as f64 * 1.1).round().min(255.0)) as u8).collect();
+        for p in pixels.iter_mut().take(1000) {
+            *p = 0;
+        }
+        let frame = GreyImage::new(100, 30, pixels, "f").unwrap();
+        let ratio = exposure(&frame, &background).ratio_4096;
+        assert!((4480..=4530).contains(&ratio), "{ratio}");
+        let matched = exposed(&background, ratio);
+        let d = difference(&frame, &matched, "f").unwrap();
+        // The room matches within a level or two (the clipped top aside).
+        let room_off =
+            d.pixels[1000..].iter().zip(&frame.pixels[1000..]).filter(|(d, f)| **f < 255 && **d > 2);
+        assert_eq!(room_off.count(), 0);
+        // The same exposure is no change at all.
+        assert_eq!(exposure(&background, &background).ratio_4096, 4096);
+        assert_eq!(exposure_matched_difference(&frame, &background, "f").unwrap(), d);
+        // A shift within the noise is left to the threshold.
+        let slightly: Vec<u8> = room.iter().map(|&b| b.saturating_add(u8::from(b > 120))).collect();
+        let slightly = GreyImage::new(100, 30, slightly, "s").unwrap();
+        assert_eq!(
+            exposure_matched_difference(&slightly, &background, "s").unwrap(),
+            difference(&slightly, &background, "s").unwrap()
+        );
+        assert_eq!(exposed(&background, 4096), background);
     }
 
     #[test]

@@ -4,7 +4,7 @@
 //! transform, for a tracker that also wants the silhouette inside the mask.
 
 use crate::error::Error;
-use crate::image::background::{Threshold, difference, foreground, noise_sd};
+use crate::image::background::{Threshold, difference, exposure_matched_difference, foreground, noise_sd};
 use crate::image::canny::{CannyParams, canny};
 use crate::image::distance::{distance_to, distance_to_truncated};
 use crate::image::morphology::open_close;
@@ -46,6 +46,9 @@ pub struct PipelineParams {
     /// `max_px`, and computed only near the foreground, a few times faster
     /// (see `distance::distance_to_truncated`).
     pub truncate_px: Option<f32>,
+    /// Whether the background is brought to each frame's exposure first
+    /// (`background::exposure_matched_difference`). Riečický et al. subtract the still as it is.
+    pub match_exposure: bool,
 }
 
 impl Default for PipelineParams {
@@ -63,6 +66,7 @@ impl Default for PipelineParams {
             canny_sigma_px: 1.0,
             canny_steps: None,
             truncate_px: None,
+            match_exposure: true,
         }
     }
 }
@@ -114,7 +118,11 @@ pub fn features(
     params: &PipelineParams,
     label: &str,
 ) -> Result<Features, Error> {
-    let difference = difference(frame, background, label)?;
+    let difference = if params.match_exposure {
+        exposure_matched_difference(frame, background, label)?
+    } else {
+        difference(frame, background, label)?
+    };
     let noise_sd = noise_sd(&difference);
     let threshold_level = params.threshold.level(&difference);
     let foreground = clean_mask(&foreground(&difference, threshold_level), params);

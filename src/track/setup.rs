@@ -46,6 +46,14 @@ impl TrackSetup {
         let params = PipelineParams { truncate_px, ..self.pipeline };
         features(frame, &self.background, &params, label)
     }
+
+    /// `frame`'s features as Riečický et al. make them: the still
+    /// subtracted as it is, whatever the frame's exposure.
+    pub fn published_features(&self, frame: &GreyImage, label: &str) -> Result<Features, Error> {
+        self.camera.check_image_size(frame.width_px, frame.height_px, label)?;
+        let params = PipelineParams { match_exposure: false, ..self.pipeline };
+        features(frame, &self.background, &params, label)
+    }
 }
 
 /// What a tracker makes of one video frame, before smoothing.

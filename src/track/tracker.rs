@@ -234,7 +234,7 @@ impl Tracker {
         let body = setup.shape.pose(&body_cm, DVec3::ZERO)?;
         let (estimate, foreground) = match state {
             TrackerState::Paper(paper) => {
-                let features = setup.features(frame, setup.pipeline.truncate_px, &label)?;
+                let features = setup.published_features(frame, &label)?;
                 (paper.frame(scorer, &body, &features), features)
             }
             TrackerState::Fused(fused) => {
