@@ -22,6 +22,70 @@ pub fn difference(frame: &GreyImage, background: &GreyImage, label: &str) -> Res
     Ok(GreyImage { width_px: frame.width_px, height_px: frame.height_px, pixels })
 }
 
+/// How far (px) the camera may have moved between its still of the room
+/// and the video, either way on either axis: a tripod touched, a still
+/// taken before the camera settled. Farther is another camera position
+/// (the track says the background does not match).
+pub const MAX_CAMERA_SHIFT_PX: i32 = 4;
+
+/// Where the room of `background` lies in `frame`: the whole-pixel shift
+/// `(dx, dy)`, within [`MAX_CAMERA_SHIFT_PX`], for which background pixel
+/// `(x + dx, y + dy)` matches frame pixel `(x, y)` best — the least sum of
+/// their absolute differences over every fourth row and column, each
+/// capped at [`SHIFT_COST_CAP_LEVELS`] (so the actor, who differs by tens
+/// of levels wherever they are, weighs alike at every shift and the room
+/// decides). No shift wins ties: a still taken where the video is stays
+/// where it is.
+/// `(0, 0)` when the sizes differ. Integer arithmetic.
+pub fn camera_shift_px(frame: &GreyImage, background: &GreyImage) -> (i32, i32) {
+    if !frame.same_size(background.width_px, background.height_px) {
+        return (0, 0);
+    }
+    let (w, h) = (frame.width_px as i32, frame.height_px as i32);
+    let r = MAX_CAMERA_SHIFT_PX;
+    let cost_at = |dx: i32, dy: i32| {
+        let mut sum = 0u64;
+        for y in (r..h - r).step_by(4) {
+            for x in (r..w - r).step_by(4) {
+                let f = frame.pixels[(y * w + x) as usize];
+                let b = background.pixels[((y + dy) * w + x + dx) as usize];
+                sum += u64::from(f.abs_diff(b).min(SHIFT_COST_CAP_LEVELS));
+            }
+        }
+        sum
+    };
+    let mut best = ((0, 0), cost_at(0, 0));
+    for dy in -r..=r {
+        for dx in -r..=r {
+            let m = cost_at(dx, dy);
+            if m < best.1 {
+                best = ((dx, dy), m);
+            }
+        }
+    }
+    best.0
+}
+
+/// A pixel differing by more than this (grey levels) counts as this much
+/// in [`camera_shift_px`]: above a camera's noise and the room's texture
+/// misplaced by a pixel, below an actor against the room.
+pub const SHIFT_COST_CAP_LEVELS: u8 = 24;
+
+/// `background` moved so that its pixel `(x + dx, y + dy)` is at `(x, y)`
+/// (see [`camera_shift_px`]); past its edges, its edge pixels repeated.
+pub fn shifted(background: &GreyImage, (dx, dy): (i32, i32)) -> GreyImage {
+    let (w, h) = (background.width_px as i32, background.height_px as i32);
+    let pixels = (0..h)
+        .flat_map(|y| {
+            (0..w).map(move |x| {
+                let (sx, sy) = ((x + dx).clamp(0, w - 1), (y + dy).clamp(0, h - 1));
+                background.pixels[(sy * w + sx) as usize]
+            })
+        })
+        .collect();
+    GreyImage { width_px: background.width_px, height_px: background.height_px, pixels }
+}
+
 /// How a frame's exposure compares with the background's. A
 /// camera's exposure, gain and auto exposure scale every pixel's light
 /// alike (and so its encoded value, a power of the light, alike too), so a
@@ -108,23 +172,44 @@ impl Exposure {
     }
 }
 
-/// `|frame − background|`, the background first brought to the frame's
+/// `|frame − background|`, the background first moved by the camera's
+/// shift since the still ([`camera_shift_px`]) and brought to the frame's
 /// exposure ([`exposure`]) where the two differ by more than the noise: a
 /// shift within the sensor's own noise is the noise, which the threshold is
 /// set from; beyond it (a still taken at another exposure) the room would
 /// turn to foreground. An error for `label` when the sizes differ.
-pub fn exposure_matched_difference(
+pub fn matched_difference(
     frame: &GreyImage,
     background: &GreyImage,
     label: &str,
 ) -> Result<GreyImage, Error> {
+    let shift = camera_shift_px(frame, background);
+    let moved;
+    let background = if shift == (0, 0) {
+        background
+    } else {
+        moved = shifted(background, shift);
+        &moved
+    };
     let raw = difference(frame, background, label)?;
     let exposure = exposure(frame, background);
-    if exposure.ratio_4096 == 4096 {
-        return Ok(raw);
+    let mut chosen = if exposure.ratio_4096 == 4096 {
+        raw
+    } else {
+        let matched = difference(frame, &exposed(background, exposure.ratio_4096), label)?;
+        if exposure.shift_levels() <= noise_sd(&matched) { raw } else { matched }
+    };
+    // The strips along the edges that the moved still does not show say
+    // nothing: no difference there.
+    let (w, h) = (chosen.width_px as i32, chosen.height_px as i32);
+    for y in 0..h {
+        for x in 0..w {
+            if !(0..w).contains(&(x + shift.0)) || !(0..h).contains(&(y + shift.1)) {
+                chosen.pixels[(y * w + x) as usize] = 0;
+            }
+        }
     }
-    let matched = difference(frame, &exposed(background, exposure.ratio_4096), label)?;
-    Ok(if exposure.shift_levels() <= noise_sd(&matched) { raw } else { matched })
+    Ok(chosen)
 }
 
 /// A pixel within this many grey levels of the background at the median's
@@ -298,8 +383,17 @@ mod tests {
 
     #[test]
     fn a_frame_exposed_otherwise_is_matched_by_one_factor() {
-        // A room of 40..=240, seen 10 % brighter, an actor of 0 over a third.
-        let room: Vec<u8> = (0..3000u32).map(|i| (40 + i % 201) as u8).collect();
+        // A textured room of 40..=240, seen 10 % brighter, an actor of 0
+        // over a third.
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let room: Vec<u8> = (0..3000)
+            .map(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (40 + state % 201) as u8
+            })
+            .collect();
         let background = GreyImage::new(100, 30, room.clone(), "b").unwrap();
         let mut pixels: Vec<u8> = room.iter().map(|&b| ((b as f64 * 1.1).round().min(255.0)) as u8).collect();
         for p in pixels.iter_mut().take(1000) {
@@ -316,15 +410,56 @@ mod tests {
         assert_eq!(room_off.count(), 0);
         // The same exposure is no change at all.
         assert_eq!(exposure(&background, &background).ratio_4096, 4096);
-        assert_eq!(exposure_matched_difference(&frame, &background, "f").unwrap(), d);
-        // A shift within the noise is left to the threshold.
-        let slightly: Vec<u8> = room.iter().map(|&b| b.saturating_add(u8::from(b > 120))).collect();
+        assert_eq!(matched_difference(&frame, &background, "f").unwrap(), d);
+        // The same exposure through a sensor's noise (±3 levels): whatever
+        // ratio the noise suggests is within it, and left to the threshold.
+        let slightly: Vec<u8> = room
+            .iter()
+            .map(|&b| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (b as i64 + (state % 7) as i64 - 3) as u8
+            })
+            .collect();
         let slightly = GreyImage::new(100, 30, slightly, "s").unwrap();
         assert_eq!(
-            exposure_matched_difference(&slightly, &background, "s").unwrap(),
+            matched_difference(&slightly, &background, "s").unwrap(),
             difference(&slightly, &background, "s").unwrap()
         );
         assert_eq!(exposed(&background, 4096), background);
+    }
+
+    #[test]
+    fn a_camera_moved_since_its_still_is_found_by_its_shift() {
+        // A room of diagonal stripes and squares; the frame sees it 3 px
+        // right and 2 px down, with an actor over a fifth of it.
+        let (w, h) = (80u32, 60u32);
+        let room = |x: i32, y: i32| (60 + ((x / 3 + y / 5) % 4) * 40 + ((x * 7 + y * 13) % 11)) as u8;
+        let background = GreyImage::new(
+            w,
+            h,
+            (0..h as i32).flat_map(|y| (0..w as i32).map(move |x| room(x, y))).collect(),
+            "b",
+        )
+        .unwrap();
+        let mut frame: Vec<u8> =
+            (0..h as i32).flat_map(|y| (0..w as i32).map(move |x| room(x - 3, y - 2))).collect();
+        for y in 10..40 {
+            for x in 30..50 {
+                frame[y * w as usize + x] = 10;
+            }
+        }
+        let frame = GreyImage::new(w, h, frame, "f").unwrap();
+        assert_eq!(camera_shift_px(&frame, &background), (-3, -2));
+        let moved = shifted(&background, (-3, -2));
+        assert_eq!(moved.pixels[(20 * w + 60) as usize], room(57, 18));
+        assert_eq!(camera_shift_px(&background, &background), (0, 0));
+        // Where the room matches once moved, it is no foreground.
+        let d = matched_difference(&frame, &background, "f").unwrap();
+        let off = (10..h as usize).flat_map(|y| (10..w as usize).map(move |x| (x, y)));
+        let room_left = off.filter(|&(x, y)| !(30..50).contains(&x) || !(10..40).contains(&y));
+        assert!(room_left.map(|(x, y)| d.pixels[y * w as usize + x]).all(|v| v == 0));
     }
 
     #[test]

@@ -4,7 +4,7 @@
 //! transform, for a tracker that also wants the silhouette inside the mask.
 
 use crate::error::Error;
-use crate::image::background::{Threshold, difference, exposure_matched_difference, foreground, noise_sd};
+use crate::image::background::{Threshold, difference, foreground, matched_difference, noise_sd};
 use crate::image::canny::{CannyParams, canny};
 use crate::image::distance::{distance_to, distance_to_truncated};
 use crate::image::morphology::open_close;
@@ -46,9 +46,11 @@ pub struct PipelineParams {
     /// `max_px`, and computed only near the foreground, a few times faster
     /// (see `distance::distance_to_truncated`).
     pub truncate_px: Option<f32>,
-    /// Whether the background is brought to each frame's exposure first
-    /// (`background::exposure_matched_difference`). Riečický et al. subtract the still as it is.
-    pub match_exposure: bool,
+    /// Whether the background still is first brought to each frame: moved
+    /// by the camera's shift of a few pixels since it was taken and scaled
+    /// to the frame's exposure (`background::matched_difference`).
+    /// Riečický et al. subtract the still as it is.
+    pub match_still: bool,
 }
 
 impl Default for PipelineParams {
@@ -66,7 +68,7 @@ impl Default for PipelineParams {
             canny_sigma_px: 1.0,
             canny_steps: None,
             truncate_px: None,
-            match_exposure: true,
+            match_still: true,
         }
     }
 }
@@ -118,8 +120,8 @@ pub fn features(
     params: &PipelineParams,
     label: &str,
 ) -> Result<Features, Error> {
-    let difference = if params.match_exposure {
-        exposure_matched_difference(frame, background, label)?
+    let difference = if params.match_still {
+        matched_difference(frame, background, label)?
     } else {
         difference(frame, background, label)?
     };

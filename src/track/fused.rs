@@ -197,6 +197,8 @@ pub struct FusedTracker {
     /// its step into the frame (cm).
     planted: Vec<bool>,
     steps_cm: Vec<DVec2>,
+    /// Frames whose fit the filter took.
+    frames_measured: usize,
 }
 
 impl FusedTracker {
@@ -208,6 +210,7 @@ impl FusedTracker {
             feet: None,
             frames_read: 0,
             first_filtered: None,
+            frames_measured: 0,
             soles: Vec::new(),
             planted: Vec::new(),
             steps_cm: Vec::new(),
@@ -339,6 +342,7 @@ impl FusedTracker {
         self.steps_cm.push(prediction.step_cm);
         let views = view_soles(&setup.camera, feet, body, &features.foreground, near_cm);
         self.soles.extend(views.into_iter().map(|v| (read, v)));
+        self.frames_measured += usize::from(measured.measured_cm.is_some());
         FrameEstimate {
             floor_cm: near_cm,
             confidence: measured.confidence,
@@ -359,7 +363,21 @@ impl FusedTracker {
             warnings
                 .push(format!("{never_came} frames' path energies never came: the suit's steps carry them"));
         }
-        let Some(filter) = &self.filter else { return (None, f64::NAN, warnings) };
+        let filter = self.filter.as_ref().filter(|_| self.frames_measured > 0);
+        let Some(filter) = filter else {
+            if self.steps_cm.is_empty() {
+                return (None, f64::NAN, warnings);
+            }
+            // Never worse than the inertial path: with no fit to place it,
+            // the take is where the suit's own steps put it, from where
+            // takes start (the board's origin), as uncertain as the first
+            // frame's search is wide.
+            warnings.push(
+                "the camera never saw the body well enough to place it: the track is the suit's own steps (the contact method) from the floor's origin".to_string(),
+            );
+            let start = SmoothedFrame { floor_cm: DVec2::ZERO, uncertainty_cm: self.params.start_search_cm };
+            return (Some(self.suit_steps_from(start, dt_s)), f64::NAN, warnings);
+        };
         let params = &self.params;
         let searched = self.path.refilter(
             filter,
@@ -409,6 +427,24 @@ impl FusedTracker {
                 "the feet on the floor were seen in {frames_sighted} of the {down} frames where the suit has one down: the depth along the camera's line of sight rests on the silhouette (the body small in the image, or its feet hidden or out of view)"
             )
         })
+    }
+
+    /// Every frame read, from `start` at the first by the suit's steps, as
+    /// uncertain as those steps are.
+    fn suit_steps_from(&self, start: SmoothedFrame, dt_s: f64) -> Vec<SmoothedFrame> {
+        let mut at = start;
+        let mut path = Vec::with_capacity(self.steps_cm.len());
+        for (k, &step) in self.steps_cm.iter().enumerate() {
+            if k > 0 {
+                let sigma = step_sigma_cm(&self.params, step, dt_s);
+                at = SmoothedFrame {
+                    floor_cm: at.floor_cm + step,
+                    uncertainty_cm: (at.uncertainty_cm * at.uncertainty_cm + sigma * sigma).sqrt(),
+                };
+            }
+            path.push(at);
+        }
+        path
     }
 
     /// The frames read before the first fit (`first` of them), placed back

@@ -48,10 +48,10 @@ impl TrackSetup {
     }
 
     /// `frame`'s features as Riečický et al. make them: the still
-    /// subtracted as it is, whatever the frame's exposure.
+    /// subtracted as it is, wherever and however exposed it was taken.
     pub fn published_features(&self, frame: &GreyImage, label: &str) -> Result<Features, Error> {
         self.camera.check_image_size(frame.width_px, frame.height_px, label)?;
-        let params = PipelineParams { match_exposure: false, ..self.pipeline };
+        let params = PipelineParams { match_still: false, ..self.pipeline };
         features(frame, &self.background, &params, label)
     }
 }
