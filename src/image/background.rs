@@ -31,11 +31,11 @@ pub const MAX_CAMERA_SHIFT_PX: i32 = 4;
 /// Where the room of `background` lies in `frame`: the whole-pixel shift
 /// `(dx, dy)`, within [`MAX_CAMERA_SHIFT_PX`], for which background pixel
 /// `(x + dx, y + dy)` matches frame pixel `(x, y)` best — the least sum of
-/// their absolute differences over every fourth row and column, each
-/// capped at [`SHIFT_COST_CAP_LEVELS`] (so the actor, who differs by tens
-/// of levels wherever they are, weighs alike at every shift and the room
-/// decides). No shift wins ties: a still taken where the video is stays
-/// where it is.
+/// their absolute differences over every fourth row and column (about
+/// [`SHIFT_SAMPLES`] pixels in larger images), each capped at
+/// [`SHIFT_COST_CAP_LEVELS`] (so the actor, who differs by tens of levels
+/// wherever they are, weighs alike at every shift and the room decides).
+/// No shift wins ties: a still taken where the video is stays where it is.
 /// `(0, 0)` when the sizes differ. Integer arithmetic.
 pub fn camera_shift_px(frame: &GreyImage, background: &GreyImage) -> (i32, i32) {
     if !frame.same_size(background.width_px, background.height_px) {
@@ -43,10 +43,16 @@ pub fn camera_shift_px(frame: &GreyImage, background: &GreyImage) -> (i32, i32) 
     }
     let (w, h) = (frame.width_px as i32, frame.height_px as i32);
     let r = MAX_CAMERA_SHIFT_PX;
+    // Every fourth row and column at 640×480; sparser in larger images, so
+    // that about as many pixels are compared at any size.
+    let mut step = 4usize;
+    while (w as usize / step) * (h as usize / step) > SHIFT_SAMPLES {
+        step += 1;
+    }
     let cost_at = |dx: i32, dy: i32| {
         let mut sum = 0u64;
-        for y in (r..h - r).step_by(4) {
-            for x in (r..w - r).step_by(4) {
+        for y in (r..h - r).step_by(step) {
+            for x in (r..w - r).step_by(step) {
                 let f = frame.pixels[(y * w + x) as usize];
                 let b = background.pixels[((y + dy) * w + x + dx) as usize];
                 sum += u64::from(f.abs_diff(b).min(SHIFT_COST_CAP_LEVELS));
@@ -65,6 +71,10 @@ pub fn camera_shift_px(frame: &GreyImage, background: &GreyImage) -> (i32, i32) 
     }
     best.0
 }
+
+/// About how many pixels [`camera_shift_px`] compares per shift: every
+/// fourth row and column of a 640×480 image.
+pub const SHIFT_SAMPLES: usize = 160 * 120;
 
 /// A pixel differing by more than this (grey levels) counts as this much
 /// in [`camera_shift_px`]: above a camera's noise and the room's texture
@@ -455,6 +465,20 @@ mod tests {
         let moved = shifted(&background, (-3, -2));
         assert_eq!(moved.pixels[(20 * w + 60) as usize], room(57, 18));
         assert_eq!(camera_shift_px(&background, &background), (0, 0));
+        // A portrait 1080×1920 room of 3-px blocks, sampled sparser.
+        let block = |x: i32, y: i32| {
+            let mut v =
+                ((x.div_euclid(3) as u64) << 32 | y.div_euclid(3) as u32 as u64) ^ 0x9e37_79b9_7f4a_7c15;
+            v ^= v << 13;
+            v ^= v >> 7;
+            v ^= v << 17;
+            (40 + v % 180) as u8
+        };
+        let image = |dx: i32, dy: i32| {
+            let pixels = (0..1920).flat_map(|y| (0..1080).map(move |x| block(x - dx, y - dy))).collect();
+            GreyImage::new(1080, 1920, pixels, "portrait").unwrap()
+        };
+        assert_eq!(camera_shift_px(&image(2, -4), &image(0, 0)), (-2, 4));
         // Where the room matches once moved, it is no foreground.
         let d = matched_difference(&frame, &background, "f").unwrap();
         let off = (10..h as usize).flat_map(|y| (10..w as usize).map(move |x| (x, y)));
