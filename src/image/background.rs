@@ -49,7 +49,9 @@ pub fn camera_shift_px(frame: &GreyImage, background: &GreyImage) -> (i32, i32) 
     while (w as usize / step) * (h as usize / step) > SHIFT_SAMPLES {
         step += 1;
     }
-    let cost_at = |dx: i32, dy: i32| {
+    // The cost of a shift, given up (`None`) once it reaches `bound`: it
+    // cannot beat the best so far (only a smaller cost wins).
+    let cost_below = |dx: i32, dy: i32, bound: u64| {
         let mut sum = 0u64;
         for y in (r..h - r).step_by(step) {
             for x in (r..w - r).step_by(step) {
@@ -57,15 +59,20 @@ pub fn camera_shift_px(frame: &GreyImage, background: &GreyImage) -> (i32, i32) 
                 let b = background.pixels[((y + dy) * w + x + dx) as usize];
                 sum += u64::from(f.abs_diff(b).min(SHIFT_COST_CAP_LEVELS));
             }
+            if sum >= bound {
+                return None;
+            }
         }
-        sum
+        Some(sum)
     };
-    let mut best = ((0, 0), cost_at(0, 0));
+    let mut best = ((0, 0), cost_below(0, 0, u64::MAX).unwrap_or(u64::MAX));
     for dy in -r..=r {
         for dx in -r..=r {
-            let m = cost_at(dx, dy);
-            if m < best.1 {
-                best = ((dx, dy), m);
+            if (dx, dy) == (0, 0) {
+                continue;
+            }
+            if let Some(cost) = cost_below(dx, dy, best.1) {
+                best = ((dx, dy), cost);
             }
         }
     }
