@@ -216,17 +216,23 @@ pub fn matched_difference(
         let matched = difference(frame, &exposed(background, exposure.ratio_4096), label)?;
         if exposure.shift_levels() <= noise_sd(&matched) { raw } else { matched }
     };
-    // The strips along the edges that the moved still does not show say
-    // nothing: no difference there.
-    let (w, h) = (chosen.width_px as i32, chosen.height_px as i32);
+    if shift != (0, 0) {
+        blank_unseen(&mut chosen, shift);
+    }
+    Ok(chosen)
+}
+
+/// `difference` zeroed along the edges that a still moved by `shift` (see
+/// [`shifted`]) does not show: those strips say nothing.
+fn blank_unseen(difference: &mut GreyImage, (dx, dy): (i32, i32)) {
+    let (w, h) = (difference.width_px as i32, difference.height_px as i32);
     for y in 0..h {
         for x in 0..w {
-            if !(0..w).contains(&(x + shift.0)) || !(0..h).contains(&(y + shift.1)) {
-                chosen.pixels[(y * w + x) as usize] = 0;
+            if !(0..w).contains(&(x + dx)) || !(0..h).contains(&(y + dy)) {
+                difference.pixels[(y * w + x) as usize] = 0;
             }
         }
     }
-    Ok(chosen)
 }
 
 /// A pixel within this many grey levels of the background at the median's
