@@ -49,6 +49,7 @@ mod noise;
 mod params;
 mod pressure;
 mod solve;
+mod still;
 
 use glam::DVec3;
 
@@ -140,6 +141,20 @@ pub fn contact_translation(
         1,
         grid.noise_sigma_samples,
     );
+    // And where the body barely moves beside that noise, further: its steps
+    // would otherwise lengthen a standing body's path several times.
+    let path = if noise::reads_noise(poses, feet, hips, step) {
+        still::hold_still(
+            &path,
+            noise_cm,
+            grid.noise_sigma_samples,
+            dt,
+            params.still_noise_share,
+            params.max_still_smoothing_s,
+        )
+    } else {
+        path
+    };
     let vertical = grid.vertical(&footing.lowest.standing_cm, &choices, params);
     let decisions = grid.decisions(&choices, n);
     let support = (0..n).map(|f| support(decisions[f], vertical.flight[f], &footing, f)).collect();

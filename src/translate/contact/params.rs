@@ -89,6 +89,18 @@ pub struct ContactParams {
     /// deviation): a heel-to-toe roll, so that a step's contacts stay apart
     /// however noisy the pose.
     pub max_noise_smoothing_s: f64,
+    /// Where the body moves slowly beside the pose's noise (standing,
+    /// bowing, shifting its weight), the hips' path is smoothed further,
+    /// until the noise left moves the hips at most this share of the
+    /// body's own speed (`still.rs`): white noise of velocity `k v` beside
+    /// a motion of speed `v` lengthens a path by about `k² / 4`, so a fifth
+    /// is 1 % — and a suit's noise, correlated over a few frames, is more
+    /// than the fourth difference reads.
+    pub still_noise_share: f64,
+    /// The longest that further smoothing may reach (s, the Gaussian's
+    /// standard deviation): a weight shift takes half a second or more, so
+    /// it passes.
+    pub max_still_smoothing_s: f64,
     /// A centre of mass lower than this above the floor (cm) is taken to be
     /// this high when reckoning the floor's push: a body crouched or lying
     /// down is not an inverted pendulum, and the push would grow without
@@ -121,6 +133,8 @@ impl ContactParams {
             ("min_com_height_cm", self.min_com_height_cm, positive),
             ("max_velocity_noise_cm_per_s", self.max_velocity_noise_cm_per_s, positive),
             ("max_noise_smoothing_s", self.max_noise_smoothing_s, not_negative),
+            ("still_noise_share", self.still_noise_share, positive),
+            ("max_still_smoothing_s", self.max_still_smoothing_s, not_negative),
             ("lift_cm", self.lift_cm, not_negative),
             ("flight_margin_cm", self.flight_margin_cm, not_negative),
             ("coast_cost_per_s", self.coast_cost_per_s, not_negative),
@@ -143,6 +157,7 @@ impl ContactParams {
             ("jitter_s", self.jitter_s),
             ("ballistic_evidence_s", self.ballistic_evidence_s),
             ("max_noise_smoothing_s", self.max_noise_smoothing_s),
+            ("max_still_smoothing_s", self.max_still_smoothing_s),
         ] {
             if value > MAX_TIME_SCALE_S {
                 return Err(format!(
@@ -173,6 +188,8 @@ impl Default for ContactParams {
             min_com_height_cm: 30.0,
             max_velocity_noise_cm_per_s: 12.5,
             max_noise_smoothing_s: 0.1,
+            still_noise_share: 0.2,
+            max_still_smoothing_s: 0.3,
         }
     }
 }
