@@ -534,14 +534,17 @@ fn run_demo() -> ExitCode {
         println!("  {}", describe(&recording, &translated));
         errors.push((method.name(), error));
     }
-    println!("  hips error against the truth, on the floor (% of the true path):");
+    println!(
+        "  hips error against the truth, on the floor (% of the true path), and the path's length over the truth's:"
+    );
     let line = |name: &str, e: &PathError| {
         println!(
-            "    {name:<7} mean {:5.1} cm ({:.2}%), final {:5.1} cm ({:.2}%)",
+            "    {name:<7} mean {:5.1} cm ({:.2}%), final {:5.1} cm ({:.2}%), path {:.2} ×",
             e.mean_cm,
             e.mean_pct(),
             e.final_cm,
-            e.final_pct()
+            e.final_pct(),
+            e.path_ratio
         )
     };
     for (name, error) in &errors {

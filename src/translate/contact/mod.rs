@@ -135,19 +135,26 @@ pub fn contact_translation(
     // Back to every frame, on the unsmoothed soles.
     let footing = Footing::new(shapes.as_ref().map(|shape| shape.sole(sole_depth_cm)));
     // A pinned point holds still, so the pose's noise relative to the hips
-    // lands in the hips' path; a body's hips do not shake at that scale.
+    // lands in the hips' path; a body's hips do not shake at that scale. On
+    // a noisy pose, nor below the grid's spacing, where no contact was
+    // chosen: above 30 fps the path is built from every frame's pinned
+    // velocity, and its frame-to-frame jitter made the 100 Hz demo's path
+    // 1.8 times the truth's; smoothed as the contacts were chosen, 1.1. (A
+    // clean pose's pinned points are exact: smoothed, its feet would slide.)
+    let noisy = noise::reads_noise(poses, feet, hips, step);
+    let sigma_samples = if noisy { grid.sigma_samples } else { grid.noise_sigma_samples };
     let path = smooth_paths(
         &grid.hips_path(&footing, &choices, horizontal(poses.at(0, hips)), dt),
         1,
-        grid.noise_sigma_samples,
+        sigma_samples,
     );
     // And where the body barely moves beside that noise, further: its steps
     // would otherwise lengthen a standing body's path several times.
-    let path = if noise::reads_noise(poses, feet, hips, step) {
+    let path = if noisy {
         still::hold_still(
             &path,
             noise_cm,
-            grid.noise_sigma_samples,
+            sigma_samples,
             dt,
             params.still_noise_share,
             params.max_still_smoothing_s,
