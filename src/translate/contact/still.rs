@@ -121,7 +121,10 @@ fn smoothed_at(path: &[DVec3], f: usize, sigma: f64) -> DVec3 {
     let half = (2.5 * sigma) as i64;
     let (mut sum, mut weights) = (DVec3::ZERO, 0.0);
     for d in -half..=half {
-        let w = (-0.5 * (d as f64 / sigma).powi(2)).exp();
+        // `libm`, not the platform's `exp`: the browser and the CLI weigh
+        // to the same bit.
+        let t = d as f64 / sigma;
+        let w = libm::exp(-0.5 * t * t);
         sum += at(f as i64 + d) * w;
         weights += w;
     }
