@@ -130,7 +130,9 @@ pub fn contact_translation(
     };
     let shapes = foot_shapes(poses, parents, feet, hips);
     let has_toes = shapes.left.has_toes() || shapes.right.has_toes();
-    let (sole_depth_cm, choices) = choose_sole_depth(&shapes, has_toes, &grid, &motion, params)?;
+    let (sole_depth_cm, mut choices) = choose_sole_depth(&shapes, has_toes, &grid, &motion, params)?;
+    let soles = shapes.as_ref().map(|shape| shape.sole(sole_depth_cm).smoothed(grid.sigma_samples));
+    grid.start_from_what_follows(&mut choices, &soles, &motion, params);
 
     // Back to every frame, on the unsmoothed soles.
     let footing = Footing::new(shapes.as_ref().map(|shape| shape.sole(sole_depth_cm)));
