@@ -25,6 +25,17 @@ use super::solve::{Problem, Solution};
 use crate::body::feet::PerFoot;
 use crate::body::sole::Sole;
 
+/// The choice of contacts on `frames` (in that order, `dt` s apart) of
+/// `soles` and `motion`.
+fn problem_at(frames: &[usize], soles: &PerFoot<Sole>, motion: &Motion, dt: f64) -> Problem {
+    Problem::new(
+        Footing::new(soles.as_ref().map(|sole| sole.at_frames(frames))),
+        frames.iter().map(|&f| motion.hips_to_com_cm[f]).collect(),
+        motion.accel_off_g.as_ref().map(|off| frames.iter().map(|&f| off[f]).collect()),
+        dt,
+    )
+}
+
 /// How many frames apart the contacts are chosen: the whole number of frames
 /// nearest `cost_time_s`, at least one (every frame at 30 fps, every third at
 /// 100 Hz, every second from 45 fps).
@@ -107,12 +118,7 @@ impl Grid {
         self.phases
             .iter()
             .map(|frames| {
-                let problem = Problem::new(
-                    Footing::new(soles.as_ref().map(|sole| sole.at_frames(frames))),
-                    frames.iter().map(|&f| motion.hips_to_com_cm[f]).collect(),
-                    motion.accel_off_g.as_ref().map(|off| frames.iter().map(|&f| off[f]).collect()),
-                    dt,
-                );
+                let problem = problem_at(frames, soles, motion, dt);
                 let solution = problem.solve(params);
                 PhaseChoice { problem, solution }
             })
@@ -141,13 +147,7 @@ impl Grid {
         for (frames, choice) in self.phases.iter().zip(choices.iter_mut()) {
             let Some(last) = frames.len().checked_sub(1) else { continue };
             let backwards: Vec<usize> = frames.iter().rev().copied().collect();
-            let problem = Problem::new(
-                Footing::new(soles.as_ref().map(|sole| sole.at_frames(&backwards))),
-                backwards.iter().map(|&f| motion.hips_to_com_cm[f]).collect(),
-                motion.accel_off_g.as_ref().map(|off| backwards.iter().map(|&f| off[f]).collect()),
-                dt,
-            );
-            let backward = problem.solve(params);
+            let backward = problem_at(&backwards, soles, motion, dt).solve(params);
             // The forward move into step j is the backward move into step
             // last - j + 1, its velocity the other way.
             let into = |j: usize| last + 1 - j;
