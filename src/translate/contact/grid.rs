@@ -97,7 +97,7 @@ pub(super) struct Grid {
 
 impl Grid {
     /// The grid for `n` frames at `fps`, on a pose whose noise
-    /// ([`super::noise::pose_noise_cm`] on frames `step` apart) is `noise_cm`:
+    /// ([`super::noise::pose_noise`] on frames `step` apart) is `noise_cm`:
     /// the smoothing is the larger of the jitter smoothing (where frames are
     /// left out) and the one that brings the velocity of noise white on every
     /// frame down to `max_velocity_noise_cm_per_s` (a velocity over the

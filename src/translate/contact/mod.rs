@@ -121,7 +121,8 @@ pub fn contact_translation(
     check_input(poses, fps, params)?;
     let dt = 1.0 / fps;
     let step = grid::grid_step(fps, params.cost_time_s);
-    let noise_cm = noise::pose_noise_cm(poses, feet, hips, step);
+    let pose_noise = noise::pose_noise(poses, feet, hips, step);
+    let noise_cm = pose_noise.cm;
     let grid = Grid::new(n, fps, noise_cm, params);
     let motion = Motion {
         hips_to_com_cm: smooth_paths(&hips_to_com_cm(poses, parents, feet, hips), 1, grid.sigma_samples),
@@ -143,7 +144,7 @@ pub fn contact_translation(
     // velocity, and its frame-to-frame jitter made the 100 Hz demo's path
     // 1.8 times the truth's; smoothed as the contacts were chosen, 1.1. (A
     // clean pose's pinned points are exact: smoothed, its feet would slide.)
-    let noisy = noise::reads_noise(poses, feet, hips, step);
+    let noisy = pose_noise.reads_noise;
     let sigma_samples = if noisy { grid.sigma_samples } else { grid.noise_sigma_samples };
     let path = smooth_paths(
         &grid.hips_path(&footing, &choices, horizontal(poses.at(0, hips)), dt),

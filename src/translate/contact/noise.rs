@@ -17,36 +17,44 @@ use crate::body::feet::FootJoints;
 use crate::body::skeleton::Poses;
 use crate::signal::stats::upper_median;
 
-/// The standard deviation (cm, per axis) of white noise on the feet's
-/// positions relative to the hips, as seen on frames `step` apart.
-///
-/// The fourth difference `p[f-2k] − 4 p[f-k] + 6 p[f] − 4 p[f+k] + p[f+2k]`
-/// of a foot's path holds the motion's fourth derivative times `(k dt)⁴`,
-/// which is small wherever the motion is slow beside the frame rate, and,
-/// for white noise of deviation `σ` per axis, a noise of variance `70 σ²` per
-/// axis. The median of its squared length (a χ² of 3 degrees of freedom for
-/// the noise, whose median is 2.366 times the per-axis variance) over both
-/// feet and all frames gives `σ`: the median leaves out the few frames of a
-/// landing, where the real motion is fast. Zero when the recording is too
-/// short.
-pub fn pose_noise_cm(poses: &Poses, feet: FootJoints, hips: usize, step: usize) -> f64 {
-    const FOURTH_DIFFERENCE_GAIN: f64 = 70.0;
-    const CHI2_3_MEDIAN: f64 = 2.366;
-    (fourth_difference_median(poses, feet, hips, step) / (FOURTH_DIFFERENCE_GAIN * CHI2_3_MEDIAN)).sqrt()
+/// The pose's noise on frames `step` apart, and whether that reading is
+/// noise and not motion.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PoseNoise {
+    /// The standard deviation (cm, per axis) of white noise on the feet's
+    /// positions relative to the hips, as seen on frames `step` apart.
+    ///
+    /// The fourth difference `p[f-2k] − 4 p[f-k] + 6 p[f] − 4 p[f+k] + p[f+2k]`
+    /// of a foot's path holds the motion's fourth derivative times `(k dt)⁴`,
+    /// which is small wherever the motion is slow beside the frame rate, and,
+    /// for white noise of deviation `σ` per axis, a noise of variance `70 σ²` per
+    /// axis. The median of its squared length (a χ² of 3 degrees of freedom for
+    /// the noise, whose median is 2.366 times the per-axis variance) over both
+    /// feet and all frames gives `σ`: the median leaves out the few frames of a
+    /// landing, where the real motion is fast. Zero when the recording is too
+    /// short.
+    pub cm: f64,
+    /// Noise reads about the same on frames twice as far apart (white noise
+    /// the same, noise correlated over a few frames up to twice as much),
+    /// the motion's fourth derivative sixteen times as much. So the reading
+    /// is noise when doubling the step raises it less than four times,
+    /// halfway (in ratio) between the two: on the shared suit-grade files
+    /// it rises 1.0–3.5 times, on clean optical ones 24–54 times.
+    pub reads_noise: bool,
 }
 
-/// Whether what [`pose_noise_cm`] reads on frames `step` apart is noise and
-/// not motion: noise reads about the same on frames twice as far apart
-/// (white noise the same, noise correlated over a few frames up to twice
-/// as much), the motion's fourth derivative sixteen times as much. So the
-/// reading is noise when doubling the step raises it less than four times,
-/// halfway (in ratio) between the two: on the shared suit-grade files it
-/// rises 1.0–3.5 times, on clean optical ones 24–54 times.
-pub fn reads_noise(poses: &Poses, feet: FootJoints, hips: usize, step: usize) -> bool {
+/// The pose's noise (see [`PoseNoise`]): both feet relative to `hips`, on
+/// frames `step` apart and twice as far.
+pub fn pose_noise(poses: &Poses, feet: FootJoints, hips: usize, step: usize) -> PoseNoise {
+    const FOURTH_DIFFERENCE_GAIN: f64 = 70.0;
+    const CHI2_3_MEDIAN: f64 = 2.366;
     let k = step.max(1);
     let near = fourth_difference_median(poses, feet, hips, k);
     let far = fourth_difference_median(poses, feet, hips, 2 * k);
-    near > 0.0 && far < 4.0 * near
+    PoseNoise {
+        cm: (near / (FOURTH_DIFFERENCE_GAIN * CHI2_3_MEDIAN)).sqrt(),
+        reads_noise: near > 0.0 && far < 4.0 * near,
+    }
 }
 
 /// The median squared length of the fourth difference
@@ -68,10 +76,26 @@ fn fourth_difference_median(poses: &Poses, feet: FootJoints, hips: usize, step: 
     upper_median(&values)
 }
 
+/// The velocity (cm/s, per axis) that white position noise of `noise_cm`
+/// on samples `dt` s apart keeps once smoothed by a Gaussian of
+/// `sigma_samples`: the derivative of the smoothed noise has deviation
+/// `σ_n / dt · (4 √π s³)^(−1/2)` for a kernel of `s` samples, and the
+/// difference of two unsmoothed samples `σ_n √2 / dt` (the formula
+/// overshoots that below half a sample). [`smoothing_samples`] is its
+/// inverse.
+pub fn smoothed_noise_velocity_cm_per_s(noise_cm: f64, dt: f64, sigma_samples: f64) -> f64 {
+    let s = sigma_samples;
+    if s < 0.5 {
+        noise_cm / dt * std::f64::consts::SQRT_2
+    } else {
+        noise_cm / dt / (4.0 * std::f64::consts::PI.sqrt() * s * s * s).sqrt()
+    }
+}
+
 /// The Gaussian's standard deviation (samples) that brings white position
 /// noise of `noise_cm` on samples `dt` s apart down to a velocity noise of
-/// `velocity_noise_cm_per_s`: the derivative of the smoothed noise has
-/// deviation `σ_n / dt · (4 √π s³)^(−1/2)` for a kernel of `s` samples.
+/// `velocity_noise_cm_per_s` (the inverse of
+/// [`smoothed_noise_velocity_cm_per_s`] above half a sample).
 pub fn smoothing_samples(noise_cm: f64, dt: f64, velocity_noise_cm_per_s: f64) -> f64 {
     if !(noise_cm > 0.0 && dt > 0.0 && velocity_noise_cm_per_s > 0.0) {
         return 0.0;
@@ -101,10 +125,11 @@ mod tests {
     #[test]
     fn the_noise_is_measured_apart_from_the_motion() {
         let (clean, feet) = circling(0.0, 6.0);
-        assert!(pose_noise_cm(&clean, feet, 0, 1) < 0.05, "{}", pose_noise_cm(&clean, feet, 0, 1));
+        let clean_cm = pose_noise(&clean, feet, 0, 1).cm;
+        assert!(clean_cm < 0.05, "{clean_cm}");
         for noise in [0.5, 2.0] {
             let (noisy, feet) = circling(noise, 6.0);
-            let measured = pose_noise_cm(&noisy, feet, 0, 1);
+            let measured = pose_noise(&noisy, feet, 0, 1).cm;
             assert!((measured / noise - 1.0).abs() < 0.25, "{noise} cm measured as {measured}");
         }
     }
@@ -112,11 +137,11 @@ mod tests {
     #[test]
     fn noise_reads_alike_at_twice_the_step_and_motion_does_not() {
         let (noisy, feet) = circling(1.0, 6.0);
-        assert!(reads_noise(&noisy, feet, 0, 1));
+        assert!(pose_noise(&noisy, feet, 0, 1).reads_noise);
         // A clean foot circling at 6 rad/s: its fourth differences are the
         // motion's, sixteen times larger two frames apart.
         let (clean, feet) = circling(0.0, 6.0);
-        assert!(!reads_noise(&clean, feet, 0, 1));
+        assert!(!pose_noise(&clean, feet, 0, 1).reads_noise);
     }
 
     #[test]

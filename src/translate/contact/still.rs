@@ -12,10 +12,11 @@
 //! speed over that time. A walk or a run, fast beside its noise, keeps its
 //! path as it was; a small weight shift, slow but beyond the noise, moves
 //! the hips as the pose says; a clean recording, whose fourth differences
-//! are motion and not noise (`noise::reads_noise`), is left as it is.
+//! are motion and not noise (`noise::PoseNoise`), is left as it is.
 
 use glam::DVec3;
 
+use super::noise::smoothed_noise_velocity_cm_per_s;
 use crate::signal::smoothing::smooth_gaussian_clean;
 
 /// How fast the smoothing's width may change (s, the Gaussian over which
@@ -74,21 +75,15 @@ pub fn hold_still(
 /// `widths` (samples) on top of one of `smoothed_samples` (together one of
 /// their root sum of squares), white noise of `noise_cm` per axis on
 /// samples `dt_s` apart, as the length of its velocity on the floor (two
-/// axes): the derivative of smoothed white noise has deviation
-/// `σ / dt · (4 √π s³)^(−1/2)` per axis for a kernel of `s` samples, and
-/// `σ √2 / dt` unsmoothed; never rising with the width (the formula
-/// overshoots below half a sample).
+/// axes; see [`smoothed_noise_velocity_cm_per_s`]); never rising with the
+/// width.
 fn noise_velocities(noise_cm: f64, smoothed_samples: f64, dt_s: f64, widths: &[f64]) -> Vec<f64> {
     let mut least = f64::INFINITY;
     widths
         .iter()
         .map(|&extra| {
             let s = (extra * extra + smoothed_samples * smoothed_samples).sqrt();
-            let per_axis = if s < 0.5 {
-                noise_cm / dt_s * std::f64::consts::SQRT_2
-            } else {
-                noise_cm / dt_s / (4.0 * std::f64::consts::PI.sqrt() * s * s * s).sqrt()
-            };
+            let per_axis = smoothed_noise_velocity_cm_per_s(noise_cm, dt_s, s);
             least = least.min(per_axis * std::f64::consts::SQRT_2);
             least
         })
