@@ -58,7 +58,7 @@ pub use params::{ContactParams, MAX_SOLE_DEPTH_CM, SOLE_DEPTHS_CM};
 use crate::body::com::hips_to_com_cm;
 use crate::body::feet::{Foot, FootJoints, PerFoot};
 use crate::body::skeleton::Poses;
-use crate::body::sole::{FootShape, SolePart, foot_shapes};
+use crate::body::sole::{FootShape, Sole, SolePart, foot_shapes};
 use crate::signal::smoothing::smooth_paths;
 use crate::signal::stats::upper_median;
 use footing::{Candidate, Footing};
@@ -131,8 +131,7 @@ pub fn contact_translation(
     };
     let shapes = foot_shapes(poses, parents, feet, hips);
     let has_toes = shapes.left.has_toes() || shapes.right.has_toes();
-    let (sole_depth_cm, mut choices) = choose_sole_depth(&shapes, has_toes, &grid, &motion, params)?;
-    let soles = shapes.as_ref().map(|shape| shape.sole(sole_depth_cm).smoothed(grid.sigma_samples));
+    let (sole_depth_cm, soles, mut choices) = choose_sole_depth(&shapes, has_toes, &grid, &motion, params)?;
     grid.start_from_what_follows(&mut choices, &soles, &motion, params);
 
     // Back to every frame, on the unsmoothed soles.
@@ -210,8 +209,8 @@ fn accel_off_g(foot_accel_g: Option<PerFoot<&[f64]>>, n: usize) -> PerFoot<Vec<O
     })
 }
 
-/// The sole depth whose phases' best contacts cost least in all, and those
-/// contacts: the given depth, else each of [`SOLE_DEPTHS_CM`]. Ties keep the
+/// The sole depth whose phases' best contacts cost least in all, its soles
+/// (smoothed for the choice) and those contacts: the given depth, else each of [`SOLE_DEPTHS_CM`]. Ties keep the
 /// shallower sole: where depth makes no difference (no foot rolls), the
 /// joints themselves are the plainest answer. Feet without toes
 /// (`has_toes` false) have no sole below their joints to place, so one depth
@@ -222,19 +221,19 @@ fn choose_sole_depth(
     grid: &Grid,
     motion: &Motion,
     params: &ContactParams,
-) -> Result<(f64, Vec<PhaseChoice>), String> {
+) -> Result<(f64, PerFoot<Sole>, Vec<PhaseChoice>), String> {
     let depths = params.sole_depth_cm.map_or(SOLE_DEPTHS_CM.to_vec(), |depth| vec![depth]);
     let tried = if has_toes { depths.len() } else { 1 };
-    let mut best: Option<(f64, f64, Vec<PhaseChoice>)> = None;
+    let mut best: Option<(f64, f64, PerFoot<Sole>, Vec<PhaseChoice>)> = None;
     for sole_depth_cm in depths.into_iter().take(tried) {
         let soles = shapes.as_ref().map(|shape| shape.sole(sole_depth_cm).smoothed(grid.sigma_samples));
         let choices = grid.choose(&soles, motion, params);
         let cost = choices.iter().map(|c| c.solution.cost).sum::<f64>();
         if best.as_ref().is_none_or(|b| cost < b.0) {
-            best = Some((cost, sole_depth_cm, choices));
+            best = Some((cost, sole_depth_cm, soles, choices));
         }
     }
-    best.map(|(_, sole_depth_cm, choices)| (sole_depth_cm, choices))
+    best.map(|(_, sole_depth_cm, soles, choices)| (sole_depth_cm, soles, choices))
         .ok_or_else(|| "no sole depth to try".into())
 }
 
