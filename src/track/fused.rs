@@ -436,11 +436,7 @@ impl FusedTracker {
         let mut path = Vec::with_capacity(self.steps_cm.len());
         for (k, &step) in self.steps_cm.iter().enumerate() {
             if k > 0 {
-                let sigma = step_sigma_cm(&self.params, step, dt_s);
-                at = SmoothedFrame {
-                    floor_cm: at.floor_cm + step,
-                    uncertainty_cm: (at.uncertainty_cm * at.uncertainty_cm + sigma * sigma).sqrt(),
-                };
+                at = self.stepped(at, step, dt_s);
             }
             path.push(at);
         }
@@ -460,14 +456,20 @@ impl FusedTracker {
         let mut before = vec![at; first];
         for k in (0..first).rev() {
             let step = self.steps_cm.get(k + 1).copied().unwrap_or(DVec2::ZERO);
-            let sigma = step_sigma_cm(&self.params, step, dt_s);
-            at = SmoothedFrame {
-                floor_cm: at.floor_cm - step,
-                uncertainty_cm: (at.uncertainty_cm * at.uncertainty_cm + sigma * sigma).sqrt(),
-            };
+            at = self.stepped(at, -step, dt_s);
             before[k] = at;
         }
         before
+    }
+
+    /// `at` moved by a suit's step of `step_cm` (either way along it), as
+    /// much more uncertain as that step is (`dt_s` long).
+    fn stepped(&self, at: SmoothedFrame, step_cm: DVec2, dt_s: f64) -> SmoothedFrame {
+        let sigma = step_sigma_cm(&self.params, step_cm, dt_s);
+        SmoothedFrame {
+            floor_cm: at.floor_cm + step_cm,
+            uncertainty_cm: (at.uncertainty_cm * at.uncertainty_cm + sigma * sigma).sqrt(),
+        }
     }
 }
 
