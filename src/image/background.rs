@@ -374,8 +374,17 @@ impl Threshold {
     pub fn level(&self, difference: &GreyImage) -> u8 {
         match *self {
             Threshold::Level(level) => level,
+            Threshold::FromNoise { .. } => self.level_at(noise_sd(difference)),
+        }
+    }
+
+    /// The grey level for a difference image whose noise (see [`noise_sd`])
+    /// is `noise_sd`, already measured.
+    pub fn level_at(&self, noise_sd: f32) -> u8 {
+        match *self {
+            Threshold::Level(level) => level,
             Threshold::FromNoise { noise_sds, min_level } => {
-                let level = libm::ceilf(noise_sds * noise_sd(difference));
+                let level = libm::ceilf(noise_sds * noise_sd);
                 (level.clamp(0.0, 254.0) as u8).max(min_level)
             }
         }

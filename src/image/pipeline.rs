@@ -126,7 +126,7 @@ pub fn features(
         difference(frame, background, label)?
     };
     let noise_sd = noise_sd(&difference);
-    let threshold_level = params.threshold.level(&difference);
+    let threshold_level = params.threshold.level_at(noise_sd);
     let foreground = clean_mask(&foreground(&difference, threshold_level), params);
     let (low_step, high_step) =
         params.canny_steps.unwrap_or((threshold_level as f32 / 2.0, threshold_level as f32));
