@@ -3,9 +3,11 @@
 //! inertial-suit error model (`TAG` is `l<level>-s<seed>`), each scored
 //! against its own truth. Beside both methods' figures stands the leg-length
 //! oracle (see [`SuitAccuracy`]), the floor a method without the true leg
-//! length cannot go below, and the contacts oracle (the truth's own contact
-//! decisions on the suit's pose: how much error the pose itself carries);
-//! medians per level and motion type, per level, and over all.
+//! length cannot go below, the contacts oracle (the truth's own contact
+//! decisions on the suit's pose: how much error the pose itself carries)
+//! and the grounded oracle (the same, with nothing known in the air but
+//! what the stances around tell); medians per level and motion type, per
+//! level, and over all.
 
 use crate::error::Error;
 use crate::eval::summary::{
@@ -42,6 +44,8 @@ pub struct SuitFileAccuracy {
     pub leg_length_ratio: f64,
     /// See [`SuitAccuracy::contacts_oracle_mean_error_pct`].
     pub contacts_oracle_mean_error_pct: f64,
+    /// See [`SuitAccuracy::grounded_oracle_mean_error_pct`].
+    pub grounded_oracle_mean_error_pct: f64,
 }
 
 /// Medians over a group of suit files: both methods' (see
@@ -53,6 +57,7 @@ pub struct SuitGroupMedians {
     pub leg_oracle_mean_error_pct: f64,
     pub leg_length_ratio: f64,
     pub contacts_oracle_mean_error_pct: f64,
+    pub grounded_oracle_mean_error_pct: f64,
 }
 
 /// The medians of one level's files.
@@ -114,6 +119,7 @@ pub fn evaluate_suit_file(suit: &Bvh, truth: &Bvh, name: &str) -> Result<SuitFil
         leg_oracle_mean_error_pct: contact.leg_oracle_mean_error_pct,
         leg_length_ratio: contact.leg_length_ratio,
         contacts_oracle_mean_error_pct: contact.contacts_oracle_mean_error_pct,
+        grounded_oracle_mean_error_pct: contact.grounded_oracle_mean_error_pct,
     })
 }
 
@@ -128,6 +134,7 @@ fn suit_group_medians(files: &[&SuitFileAccuracy]) -> SuitGroupMedians {
         leg_oracle_mean_error_pct: moving_median(|f| f.leg_oracle_mean_error_pct),
         leg_length_ratio: median(&ratios),
         contacts_oracle_mean_error_pct: moving_median(|f| f.contacts_oracle_mean_error_pct),
+        grounded_oracle_mean_error_pct: moving_median(|f| f.grounded_oracle_mean_error_pct),
     }
 }
 
@@ -166,18 +173,27 @@ pub fn format_suit_header() -> String {
     format!(
         "suit grade: the suit's translation frozen root→hips, re-estimated, compared with the true motion;\n\
          oracle: the true path scaled by the suit/true leg-length ratio, the floor without the true legs;\n\
-         contacts: the suit's pose pinned at the foot joint the truth holds still (the truth's own decisions)\n\
-         {} | {:>8} {:>9} {:>10}",
+         contacts: the suit's pose pinned at the foot joint the truth holds still (the truth's own decisions);\n\
+         grounded: the same, but in the air the velocity the stances around give, not the truth's\n\
+         {} | {:>8} {:>9} {:>10} {:>10}",
         format_columns(FILE_WIDTH),
         "oracle %",
         "leg ratio",
-        "contacts %"
+        "contacts %",
+        "grounded %"
     )
 }
 
-/// The oracles' three columns, appended to a line of both methods' figures.
-fn oracle_columns(leg_oracle_mean_error_pct: f64, leg_length_ratio: f64, contacts_oracle_pct: f64) -> String {
-    format!(" | {leg_oracle_mean_error_pct:>8.2} {leg_length_ratio:>9.3} {contacts_oracle_pct:>10.2}")
+/// The oracles' four columns, appended to a line of both methods' figures.
+fn oracle_columns(
+    leg_oracle_mean_error_pct: f64,
+    leg_length_ratio: f64,
+    contacts_oracle_pct: f64,
+    grounded_oracle_pct: f64,
+) -> String {
+    format!(
+        " | {leg_oracle_mean_error_pct:>8.2} {leg_length_ratio:>9.3} {contacts_oracle_pct:>10.2} {grounded_oracle_pct:>10.2}"
+    )
 }
 
 /// A suit file's line of the table, without a line end.
@@ -187,6 +203,7 @@ pub fn format_suit_file(file: &SuitFileAccuracy) -> String {
             file.leg_oracle_mean_error_pct,
             file.leg_length_ratio,
             file.contacts_oracle_mean_error_pct,
+            file.grounded_oracle_mean_error_pct,
         )
 }
 
@@ -201,6 +218,7 @@ pub fn format_suit_summary(summary: &SuitSummary) -> String {
                 g.leg_oracle_mean_error_pct,
                 g.leg_length_ratio,
                 g.contacts_oracle_mean_error_pct,
+                g.grounded_oracle_mean_error_pct,
             )
     };
     let mut text = MEDIANS_HEADING.to_string();
@@ -264,6 +282,7 @@ mod tests {
             leg_oracle_mean_error_pct: oracle_pct,
             leg_length_ratio: 1.0 + oracle_pct / 100.0,
             contacts_oracle_mean_error_pct: 2.0 * oracle_pct,
+            grounded_oracle_mean_error_pct: 3.0 * oracle_pct,
         }
     }
 
@@ -292,6 +311,7 @@ mod tests {
         assert_eq!(walk.methods.file_count, 2);
         assert_eq!(walk.methods.contact.mean_error_pct, median(&[4.0, 6.0]));
         assert_eq!(walk.leg_oracle_mean_error_pct, median(&[2.0, 3.0]));
+        assert_eq!(walk.grounded_oracle_mean_error_pct, median(&[6.0, 9.0]));
         // The bow stays in place: no percentage, but its leg ratio counts.
         let (_, bow) = &one.by_motion_type[0];
         assert!(bow.leg_oracle_mean_error_pct.is_nan() && bow.methods.paper.mean_error_pct.is_nan());
