@@ -49,7 +49,15 @@ fn tait_bryan_degrees([i, j, k]: [usize; 3], m: DMat3) -> [f64; 3] {
     let signed = |v: f64| if cyclic { v } else { -v };
     let row_col = |row: usize, col: usize| m.col(col)[row];
     let middle = libm::asin(signed(row_col(i, k)).clamp(-1.0, 1.0));
-    let first = libm::atan2(-signed(row_col(j, k)), row_col(k, k));
+    let (cos_first, sin_first) = (row_col(k, k), -signed(row_col(j, k)));
+    // At a middle angle of ±90° (cos b below 1e-12) both are rounding
+    // noise and only a ± c is told: c = 0 and a from the j column, which
+    // R_j leaves alone.
+    if cos_first * cos_first + sin_first * sin_first < 1e-24 {
+        let first = libm::atan2(signed(row_col(k, j)), row_col(j, j));
+        return [first.to_degrees(), middle.to_degrees(), 0.0];
+    }
+    let first = libm::atan2(sin_first, cos_first);
     let last = libm::atan2(-signed(row_col(i, j)), row_col(i, i));
     [first.to_degrees(), middle.to_degrees(), last.to_degrees()]
 }
@@ -145,6 +153,21 @@ mod tests {
             let back = rotation_channel_degrees(channels, m).unwrap();
             for (a, b) in angles.iter().zip(back) {
                 assert!((a - b).abs() < 1e-9, "{channels:?}: {angles:?} came back as {back:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_middle_angle_of_90_degrees_keeps_the_rotation() {
+        use Channel::{Xrotation as X, Yrotation as Y, Zrotation as Z};
+        for channels in [[Z, X, Y], [Y, X, Z], [Z, Y, X]] {
+            for angles in [[30.0, 90.0, 20.0], [-50.0, -90.0, 10.0]] {
+                let m = local_rotation(&channels, &angles);
+                let back = local_rotation(&channels, &rotation_channel_degrees(channels, m).unwrap());
+                assert!(
+                    (back - m).abs().to_cols_array().iter().all(|d| *d < 1e-12),
+                    "{channels:?} {angles:?}"
+                );
             }
         }
     }
