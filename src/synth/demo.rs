@@ -145,8 +145,9 @@ pub fn demo_with_suit_seed(seed: u64) -> Demo {
     let poses = forward_kinematics(&rig.skeleton, &motion);
     let mut rng = XorShift64(0x9E37_79B9_7F4A_7C15);
     let foot_accel_g = rig.legs.map(|[_, _, foot]| accelerometer_g(&poses.trajectory(foot), &mut rng));
-    let [_, knee, ankle] = rig.legs.left;
-    let suit = suit::apply(&rig.skeleton, &motion, &[knee, ankle], seed);
+    // The hips and the left leg's knee and ankle: thigh and shank.
+    let body = suit::SuitBody::from_feet(&rig.skeleton, rig.legs.map(|[_, _, foot]| foot));
+    let suit = suit::apply(&rig.skeleton, &motion, &body, seed, suit::REAL_SUIT_LEVEL);
     Demo {
         skeleton: suit.skeleton,
         motion: suit.motion,
