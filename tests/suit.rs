@@ -16,7 +16,7 @@ use std::sync::OnceLock;
 use embusen::eval::suit::{
     SuitFileAccuracy, SuitSummary, evaluate_suit_file, summarise_suit, truth_file_name,
 };
-use embusen::eval::{contacts_oracle_path, grounded_oracle_path};
+use embusen::eval::{contacts_oracle_path, grounded_oracle_path, oracle_pinned_steps};
 use embusen::io::recording::Source;
 
 /// Every shared suit file, evaluated by both methods once for all the tests;
@@ -131,12 +131,12 @@ fn the_contacts_oracle_is_near_exact_on_a_clean_pose() {
         if path_cm < embusen::eval::summary::MOVING_MIN_PATH_CM {
             continue;
         }
-        let oracle = contacts_oracle_path(&truth.poses, &truth.poses, &truth.parents, feet, hips, truth.fps);
+        let pinned = oracle_pinned_steps(&truth.poses, &truth.poses, &truth.parents, feet, hips, truth.fps);
+        let oracle = contacts_oracle_path(&pinned, &truth.poses, hips);
         let error_pct = 100.0
             * embusen::eval::metrics::mean_floor_error_cm(&oracle, &truth.poses.trajectory(hips))
             / path_cm;
-        let grounded =
-            grounded_oracle_path(&truth.poses, &truth.poses, &truth.parents, feet, hips, truth.fps);
+        let grounded = grounded_oracle_path(&pinned, &truth.poses, hips, truth.fps);
         let grounded_pct = 100.0
             * embusen::eval::metrics::mean_floor_error_cm(&grounded, &truth.poses.trajectory(hips))
             / path_cm;

@@ -179,11 +179,12 @@ pub struct SuitAccuracy {
 const ORACLE_PINNED_MAX_CM_PER_S: f64 = 50.0;
 
 /// The hips' floor path that every contact decision made right gives on the
-/// suit's pose: in each frame, the foot joint the truth holds stillest
-/// (among the feet's joints and their children) is pinned in `suit` (a
-/// frame's hips move by minus that joint's move relative to them), and
-/// where the truth holds none slower than 50 cm/s (in the air) the hips move
-/// as the truth's do. It starts at the truth's start.
+/// suit's pose, from its [`oracle_pinned_steps`]: in each frame, the foot
+/// joint the truth holds stillest (among the feet's joints and their
+/// children) is pinned in `suit` (a frame's hips move by minus that joint's
+/// move relative to them), and where the truth holds none slower than
+/// 50 cm/s (in the air) the hips move as the truth's do. It starts at the
+/// truth's start.
 ///
 /// What it measures: how much of the error the suit's pose itself carries
 /// when the decisions are the truth's. It is no strict floor: it pins the
@@ -192,17 +193,9 @@ const ORACLE_PINNED_MAX_CM_PER_S: f64 = 50.0;
 /// can land below it. Nor is it a ceiling where the body is often in the
 /// air: there it is given the true motion, which nothing in the pose
 /// measures (see [`grounded_oracle_path`]).
-pub fn contacts_oracle_path(
-    suit: &Poses,
-    truth: &Poses,
-    parents: &[Option<usize>],
-    feet: FootJoints,
-    hips: usize,
-    fps: f64,
-) -> Vec<DVec3> {
-    let pinned = pinned_steps(suit, truth, parents, feet, hips, fps);
+pub fn contacts_oracle_path(pinned: &[Option<DVec3>], truth: &Poses, hips: usize) -> Vec<DVec3> {
     let air = |f: usize| (truth.at(f, hips) - truth.at(f - 1, hips)).with_y(0.0);
-    path_from_steps(truth.at(0, hips).with_y(0.0), &pinned, air)
+    path_from_steps(truth.at(0, hips).with_y(0.0), pinned, air)
 }
 
 /// How far (s, a Gaussian's deviation) the grounded oracle reaches for the
@@ -220,15 +213,7 @@ pub const GROUNDED_ORACLE_REACH_S: f64 = 0.2;
 /// the contacts oracle. Where a body is rarely in the air (walks, kicks)
 /// the two agree; on a run or a dash, in the air two thirds of the time,
 /// this is what the truth's decisions can do with the pose alone.
-pub fn grounded_oracle_path(
-    suit: &Poses,
-    truth: &Poses,
-    parents: &[Option<usize>],
-    feet: FootJoints,
-    hips: usize,
-    fps: f64,
-) -> Vec<DVec3> {
-    let pinned = pinned_steps(suit, truth, parents, feet, hips, fps);
+pub fn grounded_oracle_path(pinned: &[Option<DVec3>], truth: &Poses, hips: usize, fps: f64) -> Vec<DVec3> {
     let reach_frames = GROUNDED_ORACLE_REACH_S * fps;
     let air = |f: usize| {
         let (mut sum, mut weight) = (DVec3::ZERO, 0.0);
@@ -242,14 +227,14 @@ pub fn grounded_oracle_path(
         }
         if weight > 0.0 { sum / weight } else { DVec3::ZERO }
     };
-    path_from_steps(truth.at(0, hips).with_y(0.0), &pinned, air)
+    path_from_steps(truth.at(0, hips).with_y(0.0), pinned, air)
 }
 
 /// Per frame, the hips' floor step into it that the truth's contact decision
 /// gives on `suit` (see [`contacts_oracle_path`]); `None` in frame 0 and
 /// where the truth holds no foot joint slower than
-/// [`ORACLE_PINNED_MAX_CM_PER_S`].
-fn pinned_steps(
+/// [`ORACLE_PINNED_MAX_CM_PER_S`]. Both oracles are built on these steps.
+pub fn oracle_pinned_steps(
     suit: &Poses,
     truth: &Poses,
     parents: &[Option<usize>],
@@ -360,10 +345,9 @@ pub fn evaluate_suit(suit: &Bvh, truth: &Bvh, name: &str, method: &Method) -> Re
     let start = true_hips.first().copied().unwrap_or(DVec3::ZERO);
     let oracle: Vec<DVec3> = true_hips.iter().map(|&p| start + (p - start) * leg_length_ratio).collect();
     let oracle_error_cm = mean_floor_error_cm(&oracle, &true_hips);
-    let contacts_oracle =
-        contacts_oracle_path(&frozen.poses, &truth.poses, &truth.parents, feet, hips, truth.fps);
-    let grounded_oracle =
-        grounded_oracle_path(&frozen.poses, &truth.poses, &truth.parents, feet, hips, truth.fps);
+    let pinned = oracle_pinned_steps(&frozen.poses, &truth.poses, &truth.parents, feet, hips, truth.fps);
+    let contacts_oracle = contacts_oracle_path(&pinned, &truth.poses, hips);
+    let grounded_oracle = grounded_oracle_path(&pinned, &truth.poses, hips, truth.fps);
     let true_path_cm = floor_path_cm(&true_hips);
     Ok(SuitAccuracy {
         accuracy,
@@ -446,16 +430,16 @@ mod tests {
         let end = |path: &[DVec3]| (path[path.len() - 1] - path[0]).z;
         let true_end = end(&true_hips);
         // On the truth's own pose both are exact.
-        for oracle in [contacts_oracle_path, grounded_oracle_path] {
-            let path = oracle(&truth, &truth, &parents, feet, 0, 30.0);
+        let exact = oracle_pinned_steps(&truth, &truth, &parents, feet, 0, 30.0);
+        for path in [contacts_oracle_path(&exact, &truth, 0), grounded_oracle_path(&exact, &truth, 0, 30.0)] {
             assert!((end(&path) - true_end).abs() < 1e-9, "{} vs {true_end}", end(&path));
         }
         // A pose whose stances read 0.8 of the stride: the grounded oracle
         // flies at that velocity too, the contacts oracle at the truth's.
-        let short = runner(60, 0.8);
-        let grounded = grounded_oracle_path(&short, &truth, &parents, feet, 0, 30.0);
+        let short = oracle_pinned_steps(&runner(60, 0.8), &truth, &parents, feet, 0, 30.0);
+        let grounded = grounded_oracle_path(&short, &truth, 0, 30.0);
         assert!((end(&grounded) / true_end - 0.8).abs() < 1e-9, "{}", end(&grounded) / true_end);
-        let contacts = contacts_oracle_path(&short, &truth, &parents, feet, 0, 30.0);
+        let contacts = contacts_oracle_path(&short, &truth, 0);
         assert!(end(&contacts) / true_end > 0.85, "{}", end(&contacts) / true_end);
     }
 }
