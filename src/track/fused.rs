@@ -102,10 +102,13 @@ pub struct FusedParams {
     pub path_temperature_px: f64,
     /// Below this confidence a fit is not used.
     pub min_confidence: f64,
-    /// After this long (s) of fits rejected as too far from the prediction,
-    /// the prediction is taken for lost and the camera trusted again.
+    /// After this long (s) without a fit used (rejected as too far from the
+    /// prediction, or none believable near it), the prediction is taken for
+    /// lost: the frame is searched for as the first was, and the camera is
+    /// trusted again.
     pub reacquire_after_s: f64,
-    /// How far the first frame's search reaches around its starting guess (cm).
+    /// How far the first frame's search, and a lost filter's, reaches
+    /// around each guess (cm).
     pub start_search_cm: f64,
 }
 
@@ -144,6 +147,9 @@ pub struct FusedPrediction {
     /// The filter's prediction and how far around it to search (cm); `None`
     /// in the first frame, searched for around a guess from the frame itself.
     predicted: Option<(DVec2, f64)>,
+    /// Whether the filter has lost the body: the frame is searched for as
+    /// the first was, the prediction one guess among the frame's own.
+    lost: bool,
     /// The filter's position before the prediction.
     before_cm: Option<DVec2>,
     /// The suit's step into this frame and its uncertainty (cm, one σ).
@@ -261,6 +267,7 @@ impl FusedTracker {
             // image.
             return FusedPrediction {
                 predicted: None,
+                lost: false,
                 before_cm: None,
                 step_cm,
                 step_sigma_cm: f64::INFINITY,
@@ -271,15 +278,23 @@ impl FusedTracker {
         let dt = 1.0 / setup.timing.fps;
         let step_sigma_cm = step_sigma_cm(params, step_cm, dt);
         let (predicted, covariance) = filter.predict(step_cm, step_sigma_cm);
+        let lost = filter.is_lost();
         let spread = largest_sigma_cm(covariance);
         let radius_cm = (params.search_sigmas * spread).clamp(params.min_search_cm, params.max_search_cm);
         let (truncation_px, _) = fused_truncation_px(&setup.camera, params, predicted);
         FusedPrediction {
             predicted: Some((predicted, radius_cm)),
+            lost,
             before_cm,
             step_cm,
             step_sigma_cm,
-            truncate_px: Some(pipeline_truncate_px.map_or(truncation_px, |t| t.min(truncation_px))),
+            // Lost, the body may be anywhere: the features as the first
+            // frame's.
+            truncate_px: if lost {
+                pipeline_truncate_px
+            } else {
+                Some(pipeline_truncate_px.map_or(truncation_px, |t| t.min(truncation_px)))
+            },
         }
     }
 
@@ -297,15 +312,20 @@ impl FusedTracker {
         i: usize,
     ) -> FrameEstimate {
         let params = self.params;
-        let (prediction_cm, radius_cm) = match prediction.predicted {
-            Some(p) => p,
+        let start_cm = params.start_search_cm;
+        // Where the body is expected, and where and how far it is searched for.
+        let (prediction_cm, (around_cm, radius_cm)) = match prediction.predicted {
+            Some((p, _)) if prediction.lost => {
+                (p, (best_guess(setup, &params, scorer, features, body, p), start_cm))
+            }
+            Some((p, r)) => (p, (p, r)),
             None => {
-                let radius_cm = params.start_search_cm;
-                (first_guess(setup, &params, scorer, features, body, radius_cm), radius_cm)
+                let guess = best_guess(setup, &params, scorer, features, body, DVec2::ZERO);
+                (guess, (guess, start_cm))
             }
         };
-        let mut scoring = FrameScoring::new(setup, &params, scorer, body, features, prediction_cm);
-        let fit = scoring.search(prediction_cm, radius_cm);
+        let mut scoring = FrameScoring::new(setup, &params, scorer, body, features, around_cm);
+        let fit = scoring.search(around_cm, radius_cm);
         let dt = 1.0 / setup.timing.fps;
         let reacquire_after = reacquire_after_frames(&params, dt);
         let read = self.frames_read;
@@ -616,30 +636,33 @@ impl<'a> FrameScoring<'a> {
     }
 }
 
-/// Where to start looking for the body before any fit: the floor's origin
-/// (where a take usually starts, on the board) and the feet of each of the
-/// [`GUESSED_BLOBS`] largest parts of the foreground — the actor, and
-/// anyone else in the room. Each is searched within `radius_cm` and the
-/// least energy wins: the body whose outline is the suit's pose, not
-/// merely the nearest or the lowest in the image.
-fn first_guess(
+/// Where to look for the body when nothing says where it is (before any
+/// fit, or with the filter lost): `guess_cm` (the floor's origin, where a
+/// take usually starts, on the board; or the lost prediction) and the feet
+/// of each of the [`GUESSED_BLOBS`] largest parts of the foreground — the
+/// actor, and anyone else in the room. Each is searched within
+/// [`FusedParams::start_search_cm`] and the least energy wins: the body
+/// whose outline is the suit's pose, not merely the nearest or the lowest
+/// in the image.
+fn best_guess(
     setup: &TrackSetup,
     params: &FusedParams,
     scorer: &mut Scorer,
     features: &Features,
     body: &PosedBody,
-    radius_cm: f64,
+    guess_cm: DVec2,
 ) -> DVec2 {
+    let radius_cm = params.start_search_cm;
     let found = blobs(&features.foreground);
     let largest = found.first().map_or(0, |b| b.area_px);
-    let mut guesses = vec![DVec2::ZERO];
+    let mut guesses = vec![guess_cm];
     for blob in found.iter().take(GUESSED_BLOBS).filter(|b| b.area_px * 8 >= largest) {
         let feet_px = DVec2::new(blob.bottom_column, f64::from(blob.bottom_row));
         if let Some(floor) = setup.camera.floor_point(feet_px) {
             guesses.push(DVec2::new(floor.x, floor.z));
         }
     }
-    let mut best = (DVec2::ZERO, f64::INFINITY);
+    let mut best = (guess_cm, f64::INFINITY);
     for guess in guesses {
         let mut scoring = FrameScoring::new(setup, params, scorer, body, features, guess);
         let Some((_, fit)) = scoring.search(guess, radius_cm) else { continue };

@@ -74,9 +74,9 @@ pub enum Measurement {
     Used,
     /// Beyond [`GATE_SIGMAS`] of the prediction: left out.
     Rejected,
-    /// Beyond the gate, but after `reacquire_after` frames in a row of
-    /// rejections: the filter had lost the body, so it starts again from the
-    /// camera.
+    /// Beyond the gate, but after `reacquire_after` frames in a row without
+    /// a measurement used (rejected, or none believable to offer): the
+    /// filter had lost the body, so it starts again from the camera.
     Reacquired,
 }
 
@@ -84,7 +84,8 @@ pub enum Measurement {
 #[derive(Clone, Debug)]
 pub struct FloorFilter {
     frames: Vec<Filtered>,
-    rejected_in_a_row: usize,
+    /// Frames in a row, the newest included, without a measurement used.
+    unused_in_a_row: usize,
     reacquire_after: usize,
     /// The similarity's random walk per frame (variance).
     map_variance_per_frame: f64,
@@ -118,7 +119,8 @@ impl FloorFilter {
     /// A filter whose first frame is at `start` with standard deviation
     /// `start_sigma_cm` per axis, the suit's steps taken as they are (up to
     /// [`STEP_MAP_SIGMA`]), frames `dt_s` apart; after `reacquire_after`
-    /// rejected measurements in a row it trusts the camera again.
+    /// frames in a row without a measurement used it trusts the camera
+    /// again.
     pub fn new(start: DVec2, start_sigma_cm: f64, dt_s: f64, reacquire_after: usize) -> FloorFilter {
         let state = DVec4::new(start.x, start.y, 1.0, 0.0);
         let s2 = start_sigma_cm * start_sigma_cm;
@@ -132,12 +134,19 @@ impl FloorFilter {
                 state,
                 covariance,
             }],
-            rejected_in_a_row: 0,
+            unused_in_a_row: 0,
             reacquire_after,
             map_variance_per_frame: STEP_MAP_SIGMA_PER_SQRT_S * STEP_MAP_SIGMA_PER_SQRT_S * dt_s.max(0.0),
             innovation_sum: 0.0,
             innovation_count: 0,
         }
+    }
+
+    /// Whether the filter has gone `reacquire_after` frames, the newest
+    /// included, without a measurement used: its prediction may be anywhere
+    /// by now, and the next measurement beyond the gate restarts it.
+    pub fn is_lost(&self) -> bool {
+        self.unused_in_a_row >= self.reacquire_after
     }
 
     /// The frames filtered so far.
@@ -198,6 +207,7 @@ impl FloorFilter {
             state: predicted,
             covariance: predicted_covariance,
         });
+        self.unused_in_a_row += 1;
         (position(predicted), position_covariance(predicted_covariance))
     }
 
@@ -216,13 +226,12 @@ impl FloorFilter {
             self.innovation_sum += distance2;
             self.innovation_count += 1;
             Measurement::Used
-        } else if self.rejected_in_a_row + 1 >= self.reacquire_after {
+        } else if self.is_lost() {
             Measurement::Reacquired
         } else {
-            self.rejected_in_a_row += 1;
             return Measurement::Rejected;
         };
-        self.rejected_in_a_row = 0;
+        self.unused_in_a_row = 0;
         let frame = self.last_mut();
         if outcome == Measurement::Reacquired {
             // Lost: the past says nothing of where the body is now; what was
@@ -334,6 +343,24 @@ mod tests {
             outcomes,
             [Measurement::Rejected, Measurement::Rejected, Measurement::Rejected, Measurement::Reacquired]
         );
+        assert_eq!(filter.current().0, DVec2::new(100.0, 0.0));
+    }
+
+    #[test]
+    fn frames_with_no_believable_fit_count_towards_being_lost() {
+        // Used once, then four frames with nothing offered (the body not
+        // seen well enough): the first measurement beyond the gate restarts.
+        let mut filter = FloorFilter::new(DVec2::ZERO, 1.0, 1.0 / 30.0, 5);
+        filter.predict(DVec2::ZERO, 1.0);
+        assert_eq!(filter.update(DVec2::ZERO, isotropic(2.0)), Measurement::Used);
+        for _ in 0..4 {
+            filter.predict(DVec2::ZERO, 1.0);
+            assert!(!filter.is_lost());
+        }
+        filter.predict(DVec2::ZERO, 1.0);
+        assert!(filter.is_lost());
+        assert_eq!(filter.update(DVec2::new(100.0, 0.0), isotropic(2.0)), Measurement::Reacquired);
+        assert!(!filter.is_lost());
         assert_eq!(filter.current().0, DVec2::new(100.0, 0.0));
     }
 }
