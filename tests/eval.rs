@@ -182,28 +182,35 @@ fn from_frame(poses: &Poses, k: usize) -> Poses {
     }
 }
 
-/// A take that starts mid-stride keeps its strides. Cut 0–8 frames off the
-/// start of the clean run and dash, the first frames can be in the air, with
-/// no velocity to carry into the flight: forward alone, the run came out up
-/// to 39 % off and the dash 83 %; with each start read from what follows
-/// it, at most 2.3 and 5.4 %. Issue 23 asks the worst of the held-out clean
-/// runs and dashes ≤ 10 %.
+/// A take that starts mid-stride keeps its strides. Cut off the start of
+/// the clean run (a whole stride, 0–24 frames) and dash (0–8 frames; it has
+/// 19), the first frames can be in the air, or on a foot still landing, with
+/// no velocity to carry on. Forward alone, the first frames' pins went
+/// unchecked: the run came out up to 39 % off and the dash 83 %; with each
+/// start also read from what follows it, at most 2.4 and 5.4 %; with a
+/// coast from the start whose velocity the first pin sets, checked against
+/// its own next move (`solve.rs`), at most 1.5 and 3.6 %. Issue 23 asks the
+/// held-out clean runs and dashes ≤ 3 % at the 90th percentile and ≤ 10 %
+/// at the worst: every cut of the run within the first, of the dash within
+/// the second.
 #[test]
 fn a_take_cut_mid_stride_keeps_its_strides() {
     let Some(dir) = common::data_dir() else { return };
-    for name in ["bandai1_run_masculinity_001.bvh", "bandai1_dash_normal_001.bvh"] {
+    for (name, cuts, most_pct) in
+        [("bandai1_run_masculinity_001.bvh", 24, 3.0), ("bandai1_dash_normal_001.bvh", 8, 10.0)]
+    {
         let recording = common::open(&dir, &format!("groundtruth/{name}"));
         let Source::Bvh(bvh) = &recording.source else { panic!("{name}: a BVH") };
         let feet = recording.feet(&FeetChoice::default()).unwrap();
         let frozen = Recording::from_bvh(freeze_translation(bvh, recording.hips(feet)), name);
-        for cut in 0..=8 {
+        for cut in 0..=cuts {
             let mut take = frozen.clone();
             take.poses = from_frame(&frozen.poses, cut);
             let estimated = take.translate(&FeetChoice::default(), &Method::default()).unwrap();
             let truth = from_frame(&recording.poses, cut);
             let contact = accuracy(&estimated, &truth, &recording.parents, take.fps);
             eprintln!("{name} from frame {cut}: {:.2} %", contact.mean_error_pct);
-            assert!(contact.mean_error_pct <= 10.0, "{name} from frame {cut}: {contact:?}");
+            assert!(contact.mean_error_pct <= most_pct, "{name} from frame {cut}: {contact:?}");
         }
     }
 }

@@ -128,6 +128,7 @@ pub fn contact_translation(
         hips_to_com_cm: smooth_paths(&hips_to_com_cm(poses, parents, feet, hips), 1, grid.sigma_samples),
         accel_off_g: accel_off_g(foot_accel_g, n),
         dt,
+        open_start: grid.moves_measured_apart(),
     };
     let shapes = foot_shapes(poses, parents, feet, hips);
     let has_toes = shapes.left.has_toes() || shapes.right.has_toes();

@@ -30,7 +30,10 @@
 //!   `(d / com_prior_cm)²` per `cost_time_s`;
 //! - coasting costs `coast_cost_per_s` per second, more where a foot's
 //!   accelerometer says it rests on the floor; the floor does not push a
-//!   coasting body, which keeps the velocity it came in with.
+//!   coasting body, which keeps the velocity it came in with;
+//! - a take may start coasting with a velocity yet unknown, set by the first
+//!   pin, which is then checked against its own next move
+//!   ([`Problem::start_state`]).
 //!
 //! The optimum is exact for the pinned candidates, whose velocity each frame
 //! is fixed; a coasting stretch carries the velocity it entered with along
@@ -54,6 +57,9 @@ pub(super) struct Problem {
     pub accel_off_g: PerFoot<Vec<Option<f64>>>,
     /// The time between the grid's frames (s).
     pub dt: f64,
+    /// Whether the take may start coasting with a velocity yet unknown (see
+    /// [`Problem::start_state`]).
+    pub open_start: bool,
     /// Every candidate, in the order of [`Footing::candidates`]: coasting
     /// last.
     candidates: Vec<Candidate>,
@@ -69,11 +75,12 @@ pub(super) struct Solution {
     pub cost: f64,
 }
 
-/// The dynamic programming's tables after its last frame.
+/// The dynamic programming's tables after its last frame. Its states are
+/// the candidates and, after them, [`Problem::start_state`].
 struct Trellis {
-    /// Per candidate, the least cost of a sequence ending in it.
+    /// Per state, the least cost of a sequence ending in it.
     cost: Vec<f64>,
-    /// Frame-major, per frame and candidate, the candidate before it on that
+    /// Frame-major, per frame and state, the state before it on that
     /// sequence.
     back: Vec<u32>,
     /// Per frame, the centre of mass's velocity (cm/s) carried into it by
@@ -81,7 +88,7 @@ struct Trellis {
     carried: Vec<DVec3>,
 }
 
-/// Per candidate, the best sequence ending in it in one frame.
+/// Per state, the best sequence ending in it in one frame.
 struct Column {
     /// Its cost.
     cost: Vec<f64>,
@@ -101,13 +108,40 @@ impl Problem {
         hips_to_com_cm: Vec<DVec3>,
         accel_off_g: PerFoot<Vec<Option<f64>>>,
         dt: f64,
+        open_start: bool,
     ) -> Problem {
         let candidates = footing.candidates();
-        Problem { footing, hips_to_com_cm, accel_off_g, dt, candidates }
+        Problem { footing, hips_to_com_cm, accel_off_g, dt, open_start, candidates }
     }
 
     pub fn frame_count(&self) -> usize {
         self.hips_to_com_cm.len()
+    }
+
+    /// The trellis's state after the candidates': coasting since the first
+    /// frame, with no velocity yet.
+    ///
+    /// Why: a take starts with no velocity to compare its first moves with.
+    /// A pin's velocity in frame 1 would stand unchecked, and a coast after
+    /// it carry that velocity on (a take that starts on a landing foot
+    /// pinned its still-sliding heel, and the hips ran backwards for 0.4 s).
+    /// Nor can the start be taken as rest: a take cut mid-run would lose
+    /// its first strides. So the body may coast from the start for up to
+    /// `max_coast_s` with a velocity yet unknown, which the first pin after
+    /// it sets; that pin, having nothing before it to compare with, is
+    /// checked against its own next move instead (a point that holds still
+    /// gives the same velocity twice; a foot still landing, or already
+    /// lifting off, does not). Kept apart from [`Candidate::Coast`], whose
+    /// one state carries a velocity: merged, the unknown velocity would
+    /// stand in for any history that cost more.
+    fn start_state(&self) -> usize {
+        self.candidates.len()
+    }
+
+    /// How many states the trellis has: the candidates, and the start's
+    /// where the take may start open.
+    fn state_count(&self) -> usize {
+        self.candidates.len() + usize::from(self.open_start)
     }
 
     /// The best sequence of candidates (see the module documentation).
@@ -186,10 +220,12 @@ impl Problem {
     fn forward(&self, params: &ContactParams) -> Trellis {
         let candidates = &self.candidates;
         let n = self.frame_count();
-        let m = candidates.len();
-        let coast = m - 1;
+        let coast = candidates.len() - 1;
+        let m = self.state_count();
         let mut column = Column {
-            cost: candidates.iter().map(|&c| self.own_cost(c, 0, params)).collect(),
+            cost: (0..m)
+                .map(|i| self.own_cost(candidates.get(i).copied().unwrap_or(Candidate::Coast), 0, params))
+                .collect(),
             com_velocity: vec![DVec3::ZERO; m],
         };
         let mut next = Column { cost: vec![0.0; m], com_velocity: vec![DVec3::ZERO; m] };
@@ -202,6 +238,9 @@ impl Problem {
             // A coasting stretch that has lasted its longest can only land.
             let coast_is_over = coast_frames >= max_coast_frames;
             self.advance(f, &column, &mut next, back, coast_is_over, params);
+            if self.open_start {
+                self.advance_start(f, &column, &mut next, back, f > max_coast_frames, params);
+            }
             carried[f] = next.com_velocity[coast];
             coast_frames = if back[coast] as usize == coast { coast_frames + 1 } else { 1 };
             std::mem::swap(&mut column, &mut next);
@@ -224,6 +263,7 @@ impl Problem {
     ) {
         let candidates = &self.candidates;
         let coast = candidates.len() - 1;
+        let start = self.start_state();
         // A velocity change within one frame, in units of `cost_time_s`.
         let per_change = params.cost_time_s / self.dt;
         let hips_to_com_velocity = self.hips_to_com_velocity(f);
@@ -241,14 +281,20 @@ impl Problem {
             }
             let now = self.footing.hips_velocity(candidate, f, self.dt).map(|v| v + hips_to_com_velocity);
             let range = push.range_from(self.footing.pressure_segment(candidate, pushed));
-            let barred = (i == coast && coast_is_over).then_some(coast);
-            // Coasting keeps the velocity it comes in with; frame 0 has no
-            // velocity to compare with.
+            // A coast that has lasted its longest can only land; a coast
+            // from the start lands, it has no velocity to carry on.
+            let barred = |j: usize| i == coast && (j == start || (j == coast && coast_is_over));
+            // Coasting keeps the velocity it comes in with. A pin with no
+            // velocity before it (in frame 1, or after the start's coast)
+            // is compared with its own next move.
+            let own_next = || now.map_or(0.0, |v| self.own_next_change(candidate, f, v, params));
             let unexplained = |j: usize| match now {
-                Some(v) if f > 1 => {
+                Some(_) if self.open_start && (f == 1 || j == start) => own_next(),
+                Some(_) if f == 1 => 0.0,
+                Some(v) => {
                     range.unexplained(horizontal(v - column.com_velocity[j])).length() / params.slip_cm_per_s
                 }
-                _ => 0.0,
+                None => 0.0,
             };
             let way_in = best_way_in(&column.cost, barred, coast, |j| {
                 let u = unexplained(j);
@@ -261,22 +307,81 @@ impl Problem {
         }
     }
 
+    /// One frame of the forward pass for [`Problem::start_state`]: coasting
+    /// on from the start, until `is_over`.
+    fn advance_start(
+        &self,
+        f: usize,
+        column: &Column,
+        next: &mut Column,
+        back: &mut [u32],
+        is_over: bool,
+        params: &ContactParams,
+    ) {
+        let start = self.start_state();
+        next.cost[start] = if is_over {
+            f64::INFINITY
+        } else {
+            column.cost[start] + self.own_cost(Candidate::Coast, f, params)
+        };
+        next.com_velocity[start] = DVec3::ZERO;
+        back[start] = start as u32;
+    }
+
+    /// How far (in `slip_cm_per_s`) the centre of mass's velocity `now`,
+    /// which `candidate` gives for the move into frame `f`, changes beyond
+    /// the floor's push if `candidate` holds for the move after it too; zero
+    /// in the last frame, infinite where it cannot hold then.
+    fn own_next_change(&self, candidate: Candidate, f: usize, now: DVec3, params: &ContactParams) -> f64 {
+        if f + 1 >= self.frame_count() {
+            return 0.0;
+        }
+        if !self.own_cost(candidate, f + 1, params).is_finite() {
+            return f64::INFINITY;
+        }
+        let Some(after) = self.footing.hips_velocity(candidate, f + 1, self.dt) else { return 0.0 };
+        let after = after + self.hips_to_com_velocity(f + 1);
+        let push = FloorPush::new(
+            self.hips_to_com_cm[f],
+            self.footing.lowest.standing_cm[f],
+            self.dt,
+            params.min_com_height_cm,
+        );
+        let range = push.range_from(self.footing.pressure_segment(candidate, f));
+        range.unexplained(horizontal(after - now)).length() / params.slip_cm_per_s
+    }
+
     /// The best sequence, read back from the trellis's cheapest end.
     fn backtrack(&self, trellis: &Trellis) -> Solution {
-        let candidates = &self.candidates;
         let n = self.frame_count();
-        let m = candidates.len();
+        let start = self.start_state();
+        let m = self.state_count();
+        let candidate = |i: usize| self.candidates.get(i).copied().unwrap_or(Candidate::Coast);
         let cost = &trellis.cost;
         let mut i = (0..m).min_by(|&a, &b| cost[a].total_cmp(&cost[b])).unwrap_or(m - 1);
         let total_cost = cost[i];
-        let mut chosen = vec![candidates[i]; n];
+        let mut chosen = vec![candidate(i); n];
+        // Where the coast from the start ends: the frame of the first pin
+        // after it (`n` when none follows), `None` without one.
+        let mut start_ends = (i == start).then_some(n);
         for f in (1..n).rev() {
-            chosen[f] = candidates[i];
+            chosen[f] = candidate(i);
             i = trellis.back[f * m + i] as usize;
+            if i == start && start_ends.is_none() {
+                start_ends = Some(f);
+            }
         }
-        chosen[0] = chosen.get(1).copied().unwrap_or(candidates[i]);
+        chosen[0] = chosen.get(1).copied().unwrap_or(candidate(i));
+        // It carries the velocity its first pin sets (none without one).
+        let start_com_velocity = match start_ends {
+            Some(k) if k < n => self.hips_velocity(chosen[k], k) + self.hips_to_com_velocity(k),
+            _ => DVec3::ZERO,
+        };
         let hips_velocity = (0..n)
             .map(|f| match chosen[f] {
+                Candidate::Coast if start_ends.is_some_and(|k| f < k) => {
+                    start_com_velocity - self.hips_to_com_velocity(f)
+                }
                 Candidate::Coast => trellis.carried[f] - self.hips_to_com_velocity(f),
                 c => self.hips_velocity(c, f),
             })
@@ -285,18 +390,18 @@ impl Problem {
     }
 }
 
-/// Of the sequences ending in each candidate `j` with `cost[j]`, the one
-/// whose move on costs least (`cost[j] + change_cost(j)`), skipping the
-/// impossible ones and `barred`; `fallback` when none is possible.
+/// Of the sequences ending in each state `j` with `cost[j]`, the one whose
+/// move on costs least (`cost[j] + change_cost(j)`), skipping the
+/// impossible ones and those `barred`; `fallback` when none is possible.
 fn best_way_in(
     cost: &[f64],
-    barred: Option<usize>,
+    barred: impl Fn(usize) -> bool,
     fallback: usize,
     change_cost: impl Fn(usize) -> f64,
 ) -> WayIn {
     let mut best = WayIn { cost: f64::INFINITY, from: fallback };
     for (j, &before) in cost.iter().enumerate() {
-        if !before.is_finite() || barred == Some(j) {
+        if !before.is_finite() || barred(j) {
             continue;
         }
         let total = before + change_cost(j);
