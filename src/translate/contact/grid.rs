@@ -150,7 +150,9 @@ impl Grid {
     /// off: 20 % off, from 0.65). Run backwards, the same costs carry the
     /// landing's velocity back into the flight, so the backward choice is
     /// taken up to the first frame where both pin the same point, and the
-    /// forward choice from there on.
+    /// forward choice from there on. (Where successive moves are measured
+    /// apart, [`Grid::moves_measured_apart`], each pass may also start with
+    /// a coast whose velocity its first pin sets; see `solve.rs`.)
     pub fn start_from_what_follows(
         &self,
         choices: &mut [PhaseChoice],
