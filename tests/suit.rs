@@ -150,6 +150,9 @@ fn the_contacts_oracle_is_near_exact_on_a_clean_pose() {
     assert!(checked >= 5, "only {checked} moving ground-truth files");
     assert!(files.iter().all(|f| f.contacts_oracle_mean_error_pct.is_finite()));
     assert!(files.iter().all(|f| f.grounded_oracle_mean_error_pct.is_finite()));
+    // Their paths' lengths over the truth's: positive numbers.
+    let ratios = files.iter().flat_map(|f| [f.contacts_oracle_path_ratio, f.grounded_oracle_path_ratio]);
+    assert!(ratios.clone().all(|r| r.is_finite() && r > 0.0), "{:?}", ratios.collect::<Vec<_>>());
 }
 
 #[test]

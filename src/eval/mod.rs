@@ -171,6 +171,11 @@ pub struct SuitAccuracy {
     /// The mean error of the grounded oracle ([`grounded_oracle_path`]), %
     /// of the true path.
     pub grounded_oracle_mean_error_pct: f64,
+    /// The contacts oracle's path length over the true one: how much path
+    /// the pose's noise adds where the truth's own decisions pin it.
+    pub contacts_oracle_path_ratio: f64,
+    /// The grounded oracle's path length over the true one.
+    pub grounded_oracle_path_ratio: f64,
 }
 
 /// The fastest (cm/s, horizontally) a foot joint may move in the truth and
@@ -357,6 +362,8 @@ pub fn evaluate_suit(suit: &Bvh, truth: &Bvh, name: &str, method: &Method) -> Re
             / true_path_cm,
         grounded_oracle_mean_error_pct: 100.0 * mean_floor_error_cm(&grounded_oracle, &true_hips)
             / true_path_cm,
+        contacts_oracle_path_ratio: floor_path_cm(&contacts_oracle) / true_path_cm,
+        grounded_oracle_path_ratio: floor_path_cm(&grounded_oracle) / true_path_cm,
     })
 }
 

@@ -46,6 +46,10 @@ pub struct SuitFileAccuracy {
     pub contacts_oracle_mean_error_pct: f64,
     /// See [`SuitAccuracy::grounded_oracle_mean_error_pct`].
     pub grounded_oracle_mean_error_pct: f64,
+    /// See [`SuitAccuracy::contacts_oracle_path_ratio`].
+    pub contacts_oracle_path_ratio: f64,
+    /// See [`SuitAccuracy::grounded_oracle_path_ratio`].
+    pub grounded_oracle_path_ratio: f64,
 }
 
 /// Medians over a group of suit files: both methods' (see
@@ -58,6 +62,9 @@ pub struct SuitGroupMedians {
     pub leg_length_ratio: f64,
     pub contacts_oracle_mean_error_pct: f64,
     pub grounded_oracle_mean_error_pct: f64,
+    /// Over all files, as the methods' path ratios.
+    pub contacts_oracle_path_ratio: f64,
+    pub grounded_oracle_path_ratio: f64,
 }
 
 /// The medians of one level's files.
@@ -120,6 +127,8 @@ pub fn evaluate_suit_file(suit: &Bvh, truth: &Bvh, name: &str) -> Result<SuitFil
         leg_length_ratio: contact.leg_length_ratio,
         contacts_oracle_mean_error_pct: contact.contacts_oracle_mean_error_pct,
         grounded_oracle_mean_error_pct: contact.grounded_oracle_mean_error_pct,
+        contacts_oracle_path_ratio: contact.contacts_oracle_path_ratio,
+        grounded_oracle_path_ratio: contact.grounded_oracle_path_ratio,
     })
 }
 
@@ -128,13 +137,16 @@ fn suit_group_medians(files: &[&SuitFileAccuracy]) -> SuitGroupMedians {
     let moving_median = |pct: fn(&SuitFileAccuracy) -> f64| {
         median(&files.iter().filter(|f| is_moving(&f.file.contact)).map(|f| pct(f)).collect::<Vec<_>>())
     };
-    let ratios: Vec<f64> = files.iter().map(|f| f.leg_length_ratio).collect();
+    let all_median =
+        |figure: fn(&SuitFileAccuracy) -> f64| median(&files.iter().map(|f| figure(f)).collect::<Vec<_>>());
     SuitGroupMedians {
         methods: group_medians(&methods),
         leg_oracle_mean_error_pct: moving_median(|f| f.leg_oracle_mean_error_pct),
-        leg_length_ratio: median(&ratios),
+        leg_length_ratio: all_median(|f| f.leg_length_ratio),
         contacts_oracle_mean_error_pct: moving_median(|f| f.contacts_oracle_mean_error_pct),
         grounded_oracle_mean_error_pct: moving_median(|f| f.grounded_oracle_mean_error_pct),
+        contacts_oracle_path_ratio: all_median(|f| f.contacts_oracle_path_ratio),
+        grounded_oracle_path_ratio: all_median(|f| f.grounded_oracle_path_ratio),
     }
 }
 
@@ -175,36 +187,54 @@ pub fn format_suit_header() -> String {
          oracle: the true path scaled by the suit/true leg-length ratio, the floor without the true legs;\n\
          contacts: the suit's pose pinned at the foot joint the truth holds still (the truth's own decisions);\n\
          grounded: the same, but in the air the velocity the stances around give, not the truth's\n\
-         {} | {:>8} {:>9} {:>10} {:>10}",
+         {} | {:>8} {:>9} {:>10} {:>10} | {:>10} {:>10}",
         format_columns(FILE_WIDTH),
         "oracle %",
         "leg ratio",
         "contacts %",
-        "grounded %"
+        "grounded %",
+        "contacts ×",
+        "grounded ×"
     )
 }
 
-/// The oracles' four columns, appended to a line of both methods' figures.
-fn oracle_columns(
+/// The oracles' columns, appended to a line of both methods' figures: the
+/// leg-length oracle's error and ratio, the contacts and grounded oracles'
+/// errors, then their path ratios (their path over the true one).
+struct OracleFigures {
     leg_oracle_mean_error_pct: f64,
     leg_length_ratio: f64,
     contacts_oracle_pct: f64,
     grounded_oracle_pct: f64,
-) -> String {
-    format!(
-        " | {leg_oracle_mean_error_pct:>8.2} {leg_length_ratio:>9.3} {contacts_oracle_pct:>10.2} {grounded_oracle_pct:>10.2}"
-    )
+    contacts_oracle_path_ratio: f64,
+    grounded_oracle_path_ratio: f64,
+}
+
+impl OracleFigures {
+    fn columns(&self) -> String {
+        format!(
+            " | {:>8.2} {:>9.3} {:>10.2} {:>10.2} | {:>10.3} {:>10.3}",
+            self.leg_oracle_mean_error_pct,
+            self.leg_length_ratio,
+            self.contacts_oracle_pct,
+            self.grounded_oracle_pct,
+            self.contacts_oracle_path_ratio,
+            self.grounded_oracle_path_ratio
+        )
+    }
 }
 
 /// A suit file's line of the table, without a line end.
 pub fn format_suit_file(file: &SuitFileAccuracy) -> String {
-    format_file_line(FILE_WIDTH, &file.file)
-        + &oracle_columns(
-            file.leg_oracle_mean_error_pct,
-            file.leg_length_ratio,
-            file.contacts_oracle_mean_error_pct,
-            file.grounded_oracle_mean_error_pct,
-        )
+    let oracles = OracleFigures {
+        leg_oracle_mean_error_pct: file.leg_oracle_mean_error_pct,
+        leg_length_ratio: file.leg_length_ratio,
+        contacts_oracle_pct: file.contacts_oracle_mean_error_pct,
+        grounded_oracle_pct: file.grounded_oracle_mean_error_pct,
+        contacts_oracle_path_ratio: file.contacts_oracle_path_ratio,
+        grounded_oracle_path_ratio: file.grounded_oracle_path_ratio,
+    };
+    format_file_line(FILE_WIDTH, &file.file) + &oracles.columns()
 }
 
 /// The summary's lines, each ending in a line end: per level a heading, a
@@ -213,13 +243,16 @@ pub fn format_suit_file(file: &SuitFileAccuracy) -> String {
 pub fn format_suit_summary(summary: &SuitSummary) -> String {
     let group = |label: &str, g: &SuitGroupMedians| {
         let methods = &g.methods;
+        let oracles = OracleFigures {
+            leg_oracle_mean_error_pct: g.leg_oracle_mean_error_pct,
+            leg_length_ratio: g.leg_length_ratio,
+            contacts_oracle_pct: g.contacts_oracle_mean_error_pct,
+            grounded_oracle_pct: g.grounded_oracle_mean_error_pct,
+            contacts_oracle_path_ratio: g.contacts_oracle_path_ratio,
+            grounded_oracle_path_ratio: g.grounded_oracle_path_ratio,
+        };
         format_line(FILE_WIDTH, label, &methods.file_count.to_string(), &methods.paper, &methods.contact)
-            + &oracle_columns(
-                g.leg_oracle_mean_error_pct,
-                g.leg_length_ratio,
-                g.contacts_oracle_mean_error_pct,
-                g.grounded_oracle_mean_error_pct,
-            )
+            + &oracles.columns()
     };
     let mut text = MEDIANS_HEADING.to_string();
     for level in &summary.levels {
@@ -283,6 +316,8 @@ mod tests {
             leg_length_ratio: 1.0 + oracle_pct / 100.0,
             contacts_oracle_mean_error_pct: 2.0 * oracle_pct,
             grounded_oracle_mean_error_pct: 3.0 * oracle_pct,
+            contacts_oracle_path_ratio: 1.0 + oracle_pct / 50.0,
+            grounded_oracle_path_ratio: 1.0 + oracle_pct / 25.0,
         }
     }
 
@@ -319,6 +354,9 @@ mod tests {
         assert_eq!(one.all.methods.file_count, 4);
         assert_eq!(one.all.leg_oracle_mean_error_pct, median(&[2.0, 3.0, 1.5]));
         assert_eq!(one.all.leg_length_ratio, median(&[1.02, 1.03, 1.4, 1.015]));
+        // The oracles' path ratios over every file, moving or not.
+        assert_eq!(one.all.contacts_oracle_path_ratio, median(&[1.04, 1.06, 1.8, 1.03]));
+        assert_eq!(one.all.grounded_oracle_path_ratio, median(&[1.08, 1.12, 2.6, 1.06]));
         assert_eq!((one.contact_better_count, one.moving_file_count), (2, 3));
         assert_eq!((s.levels[1].contact_better_count, s.levels[1].moving_file_count), (1, 1));
         assert_eq!((s.levels[2].contact_better_count, s.levels[2].moving_file_count), (0, 1));
