@@ -76,7 +76,8 @@ pub(super) struct Solution {
 }
 
 /// The dynamic programming's tables after its last frame. Its states are
-/// the candidates and, after them, [`Problem::start_state`].
+/// the candidates and, where the take may start open, one more after them
+/// ([`Problem::start_state`]).
 struct Trellis {
     /// Per state, the least cost of a sequence ending in it.
     cost: Vec<f64>,
