@@ -145,6 +145,23 @@ impl Problem {
         self.candidates.len() + usize::from(self.open_start)
     }
 
+    /// The candidate trellis state `state` holds: its own, and coasting
+    /// for the start's.
+    fn state_candidate(&self, state: usize) -> Candidate {
+        self.candidates.get(state).copied().unwrap_or(Candidate::Coast)
+    }
+
+    /// The floor's push on the centre of mass at frame `f`, the lowest sole
+    /// point on the floor.
+    fn floor_push(&self, f: usize, params: &ContactParams) -> FloorPush {
+        FloorPush::new(
+            self.hips_to_com_cm[f],
+            self.footing.lowest.standing_cm[f],
+            self.dt,
+            params.min_com_height_cm,
+        )
+    }
+
     /// The best sequence of candidates (see the module documentation).
     pub fn solve(&self, params: &ContactParams) -> Solution {
         let trellis = self.forward(params);
@@ -224,9 +241,7 @@ impl Problem {
         let coast = candidates.len() - 1;
         let m = self.state_count();
         let mut column = Column {
-            cost: (0..m)
-                .map(|i| self.own_cost(candidates.get(i).copied().unwrap_or(Candidate::Coast), 0, params))
-                .collect(),
+            cost: (0..m).map(|i| self.own_cost(self.state_candidate(i), 0, params)).collect(),
             com_velocity: vec![DVec3::ZERO; m],
         };
         let mut next = Column { cost: vec![0.0; m], com_velocity: vec![DVec3::ZERO; m] };
@@ -271,9 +286,7 @@ impl Problem {
         // The floor's push between the velocity of frames f - 2 → f - 1 and
         // that of f - 1 → f, at frame f - 1.
         let pushed = f - 1;
-        let standing_cm = self.footing.lowest.standing_cm[pushed];
-        let push =
-            FloorPush::new(self.hips_to_com_cm[pushed], standing_cm, self.dt, params.min_com_height_cm);
+        let push = self.floor_push(pushed, params);
         for (i, &candidate) in candidates.iter().enumerate() {
             let own = self.own_cost(candidate, f, params);
             if !own.is_finite() {
@@ -342,13 +355,7 @@ impl Problem {
         }
         let Some(after) = self.footing.hips_velocity(candidate, f + 1, self.dt) else { return 0.0 };
         let after = after + self.hips_to_com_velocity(f + 1);
-        let push = FloorPush::new(
-            self.hips_to_com_cm[f],
-            self.footing.lowest.standing_cm[f],
-            self.dt,
-            params.min_com_height_cm,
-        );
-        let range = push.range_from(self.footing.pressure_segment(candidate, f));
+        let range = self.floor_push(f, params).range_from(self.footing.pressure_segment(candidate, f));
         range.unexplained(horizontal(after - now)).length() / params.slip_cm_per_s
     }
 
@@ -357,22 +364,21 @@ impl Problem {
         let n = self.frame_count();
         let start = self.start_state();
         let m = self.state_count();
-        let candidate = |i: usize| self.candidates.get(i).copied().unwrap_or(Candidate::Coast);
         let cost = &trellis.cost;
         let mut i = (0..m).min_by(|&a, &b| cost[a].total_cmp(&cost[b])).unwrap_or(m - 1);
         let total_cost = cost[i];
-        let mut chosen = vec![candidate(i); n];
+        let mut chosen = vec![self.state_candidate(i); n];
         // Where the coast from the start ends: the frame of the first pin
         // after it (`n` when none follows), `None` without one.
         let mut start_ends = (i == start).then_some(n);
         for f in (1..n).rev() {
-            chosen[f] = candidate(i);
+            chosen[f] = self.state_candidate(i);
             i = trellis.back[f * m + i] as usize;
             if i == start && start_ends.is_none() {
                 start_ends = Some(f);
             }
         }
-        chosen[0] = chosen.get(1).copied().unwrap_or(candidate(i));
+        chosen[0] = chosen.get(1).copied().unwrap_or(self.state_candidate(i));
         // It carries the velocity its first pin sets (none without one).
         let start_com_velocity = match start_ends {
             Some(k) if k < n => self.hips_velocity(chosen[k], k) + self.hips_to_com_velocity(k),
