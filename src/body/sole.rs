@@ -22,7 +22,6 @@ use glam::DVec3;
 
 use crate::body::feet::{Foot, FootJoints, PerFoot, foot_points};
 use crate::body::skeleton::Poses;
-use crate::signal::smoothing::smooth_paths;
 use crate::signal::stats::upper_median;
 
 /// Which part of the foot a sole point is.
@@ -90,13 +89,6 @@ impl Sole {
     /// point the foot stands on.
     pub fn height_above_flat_cm(&self, f: usize, k: usize) -> f64 {
         self.at(f, k).y - self.floor_offsets_cm[k]
-    }
-
-    /// The sole with every point's path smoothed over `sigma_samples` (see
-    /// [`smooth_paths`]).
-    pub fn smoothed(self, sigma_samples: f64) -> Sole {
-        let hips_to_points_cm = smooth_paths(&self.hips_to_points_cm, self.parts.len(), sigma_samples);
-        Sole { hips_to_points_cm, ..self }
     }
 
     /// The sole in the given frames only, in their order.

@@ -175,6 +175,53 @@ pub fn smooth_paths(points: &[DVec3], stride: usize, sigma_samples: f64) -> Vec<
     out
 }
 
+/// Point `f` of the `k`-th of the `stride` paths interleaved in `points` (as
+/// in [`smooth_paths`]) smoothed by a Gaussian of `sigma_samples`, out to 2.5
+/// of them, the path's ends extended by point reflection. One frame at a
+/// time, for widths that change from frame to frame.
+pub fn smoothed_point(points: &[DVec3], stride: usize, k: usize, f: usize, sigma_samples: f64) -> DVec3 {
+    let last = points.len() / stride - 1;
+    let at = |g: i64| -> DVec3 {
+        let point = |g: usize| points[g * stride + k];
+        match usize::try_from(g) {
+            Err(_) => 2.0 * point(0) - point(g.unsigned_abs().min(last as u64) as usize),
+            Ok(g) if g > last => 2.0 * point(last) - point((2 * last).saturating_sub(g)),
+            Ok(g) => point(g),
+        }
+    };
+    let half = (2.5 * sigma_samples) as i64;
+    let (mut sum, mut weights) = (DVec3::ZERO, 0.0);
+    for d in -half..=half {
+        // `libm`, not the platform's `exp`: the browser and the CLI weigh
+        // to the same bit.
+        let t = d as f64 / sigma_samples;
+        let w = libm::exp(-0.5 * t * t);
+        sum += at(f as i64 + d) * w;
+        weights += w;
+    }
+    sum / weights
+}
+
+/// `points` (as in [`smooth_paths`]) smoothed by `sigma_samples`, and at each
+/// frame `f` where `wider_samples[f]` is wider, by that instead
+/// ([`smoothed_point`]).
+pub fn smooth_paths_wider_where(
+    points: &[DVec3],
+    stride: usize,
+    sigma_samples: f64,
+    wider_samples: &[f64],
+) -> Vec<DVec3> {
+    let mut out = smooth_paths(points, stride, sigma_samples);
+    for (f, &wider) in wider_samples.iter().enumerate().take(points.len() / stride.max(1)) {
+        if wider > sigma_samples {
+            for k in 0..stride {
+                out[f * stride + k] = smoothed_point(points, stride, k, f, wider);
+            }
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -193,6 +240,30 @@ mod tests {
         assert!(smoothed.iter().step_by(2).all(|p| *p == DVec3::ZERO));
         assert!(smoothed[2 * 20 + 1].x > 1.0);
         assert_eq!(smooth_paths(&kinked, 2, 0.2), kinked);
+    }
+
+    #[test]
+    fn a_path_is_smoothed_wider_only_where_asked() {
+        // A zigzag: smoothing flattens it, more where wider.
+        let zigzag: Vec<DVec3> = (0..40).map(|f| DVec3::new(f as f64, 0.0, (f % 2) as f64)).collect();
+        let mut wider = vec![0.0; 40];
+        wider[20] = 3.0;
+        let smoothed = smooth_paths_wider_where(&zigzag, 1, 1.0, &wider);
+        let base = smooth_paths(&zigzag, 1, 1.0);
+        for f in (0..40).filter(|&f| f != 20) {
+            assert_eq!(smoothed[f], base[f]);
+        }
+        assert!(
+            (smoothed[20].z - 0.5).abs() < (base[20].z - 0.5).abs() / 3.0,
+            "{} {}",
+            smoothed[20],
+            base[20]
+        );
+        // A straight line keeps to itself at any width, to its ends.
+        let line: Vec<DVec3> = (0..30).map(|f| DVec3::new(2.0 * f as f64, 0.0, -f as f64)).collect();
+        for f in 0..30 {
+            assert!((smoothed_point(&line, 1, 0, f, 4.0) - line[f]).length() < 1e-9);
+        }
     }
 
     #[test]

@@ -22,8 +22,10 @@ use super::flight::{Lifts, flights};
 use super::footing::{Candidate, Footing};
 use super::noise::smoothing_samples;
 use super::solve::{Problem, Solution};
+use super::still::WIDTH_CHANGE_S;
 use crate::body::feet::PerFoot;
 use crate::body::sole::Sole;
+use crate::signal::smoothing::{smooth_gaussian_clean, smooth_paths, smooth_paths_wider_where};
 
 /// The choice of contacts on `frames` (in that order, `dt` s apart) of
 /// `soles` and `motion`.
@@ -96,6 +98,10 @@ pub(super) struct Grid {
     /// time scale over which the noise, carried into the hips by the pinned
     /// points, is smoothed out of the hips' path.
     pub noise_sigma_samples: f64,
+    /// Per frame, the smoothing for the choice (samples) where the pose's
+    /// noise bursts and asks for more than `sigma_samples`; empty where it
+    /// nowhere does ([`Grid::widen_where_noise_bursts`]).
+    pub burst_sigma_samples: Vec<f64>,
 }
 
 impl Grid {
@@ -112,7 +118,66 @@ impl Grid {
         let noise_samples = smoothing_samples(noise_cm, 1.0 / fps, params.max_velocity_noise_cm_per_s);
         let noise_sigma_samples = noise_samples.min(params.max_noise_smoothing_s * fps);
         let sigma_samples = jitter_samples.max(noise_sigma_samples);
-        Grid { step, phases, sigma_samples, noise_sigma_samples }
+        Grid { step, phases, sigma_samples, noise_sigma_samples, burst_sigma_samples: Vec::new() }
+    }
+
+    /// Widens the choice's smoothing where the pose's noise read near a
+    /// frame (`local_noise_cm`, see [`super::noise::local_noise_cm`]) is over
+    /// `slip_cm_per_s / max_velocity_noise_cm_per_s` (twice) the recording's
+    /// `noise_cm`: there, to what that noise asks (at most
+    /// `max_noise_smoothing_s`), the widths changing over
+    /// [`WIDTH_CHANGE_S`]. Frames at `fps`.
+    ///
+    /// Why: the recording's smoothing brings its median noise down to
+    /// `max_velocity_noise_cm_per_s`, half a slip unit. Where the noise is
+    /// over twice that median, what is left of it is over a whole unit, and
+    /// a planted foot's noise costs what its sliding would: the choice
+    /// coasted through the kicks, where the body stands on one foot while
+    /// the other kicks at 5–7 m/s, and carried on the velocity it came in
+    /// with. Why not everywhere: a run's noise is its median throughout, and
+    /// smoothing that reaches further blurs its stances (a shared run at
+    /// level 0.5 lost its strides, 3.9 → 15.8 %, with the widths read near
+    /// every frame).
+    pub fn widen_where_noise_bursts(
+        &mut self,
+        local_noise_cm: &[f64],
+        noise_cm: f64,
+        fps: f64,
+        params: &ContactParams,
+    ) {
+        let burst_cm = noise_cm * params.slip_cm_per_s / params.max_velocity_noise_cm_per_s;
+        let widest = params.max_noise_smoothing_s * fps;
+        let widths: Vec<f64> = local_noise_cm
+            .iter()
+            .map(|&cm| {
+                if cm <= burst_cm {
+                    return self.sigma_samples;
+                }
+                let asked = smoothing_samples(cm, 1.0 / fps, params.max_velocity_noise_cm_per_s).min(widest);
+                asked.max(self.sigma_samples)
+            })
+            .collect();
+        if widths.iter().all(|&w| w <= self.sigma_samples) {
+            return;
+        }
+        let widths = smooth_gaussian_clean(&widths, 2.0 * 2.5 * WIDTH_CHANGE_S * fps, 2.5);
+        // Never below the recording's own smoothing; where the widening has
+        // faded to rounding, that smoothing exactly.
+        self.burst_sigma_samples = widths
+            .into_iter()
+            .map(|w| if w < self.sigma_samples + 1e-6 { self.sigma_samples } else { w })
+            .collect();
+    }
+
+    /// `points` (`stride` paths interleaved frame by frame, as in
+    /// [`smooth_paths`]) smoothed for the choice: over `sigma_samples`, and
+    /// wider where the noise bursts.
+    pub fn smooth_for_choice(&self, points: &[DVec3], stride: usize) -> Vec<DVec3> {
+        if self.burst_sigma_samples.is_empty() {
+            smooth_paths(points, stride, self.sigma_samples)
+        } else {
+            smooth_paths_wider_where(points, stride, self.sigma_samples, &self.burst_sigma_samples)
+        }
     }
 
     /// Whether two successive moves' velocities, on the soles smoothed for

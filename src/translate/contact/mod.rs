@@ -123,9 +123,16 @@ pub fn contact_translation(
     let step = grid::grid_step(fps, params.cost_time_s);
     let pose_noise = noise::pose_noise(poses, feet, hips, step);
     let noise_cm = pose_noise.cm;
-    let grid = Grid::new(n, fps, noise_cm, params);
+    let mut grid = Grid::new(n, fps, noise_cm, params);
+    // Where a kick or a swing makes the noise burst (only where the fourth
+    // differences read noise: on a clean pose they are motion).
+    if pose_noise.reads_noise {
+        let half_window = (params.noise_window_s * fps).round() as usize;
+        let local_noise_cm = noise::local_noise_cm(poses, feet, hips, step, half_window);
+        grid.widen_where_noise_bursts(&local_noise_cm, noise_cm, fps, params);
+    }
     let motion = Motion {
-        hips_to_com_cm: smooth_paths(&hips_to_com_cm(poses, parents, feet, hips), 1, grid.sigma_samples),
+        hips_to_com_cm: grid.smooth_for_choice(&hips_to_com_cm(poses, parents, feet, hips), 1),
         accel_off_g: accel_off_g(foot_accel_g, n),
         dt,
         open_start: grid.moves_measured_apart(),
@@ -227,7 +234,13 @@ fn choose_sole_depth(
     let tried = if has_toes { depths.len() } else { 1 };
     let mut best: Option<(f64, f64, PerFoot<Sole>, Vec<PhaseChoice>)> = None;
     for sole_depth_cm in depths.into_iter().take(tried) {
-        let soles = shapes.as_ref().map(|shape| shape.sole(sole_depth_cm).smoothed(grid.sigma_samples));
+        let soles = shapes.as_ref().map(|shape| {
+            let sole = shape.sole(sole_depth_cm);
+            Sole {
+                hips_to_points_cm: grid.smooth_for_choice(&sole.hips_to_points_cm, sole.point_count()),
+                ..sole
+            }
+        });
         let choices = grid.choose(&soles, motion, params);
         let cost = choices.iter().map(|c| c.solution.cost).sum::<f64>();
         if best.as_ref().is_none_or(|b| cost < b.0) {

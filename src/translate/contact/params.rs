@@ -89,6 +89,12 @@ pub struct ContactParams {
     /// deviation): a heel-to-toe roll, so that a step's contacts stay apart
     /// however noisy the pose.
     pub max_noise_smoothing_s: f64,
+    /// How far either side of a frame (s) the pose's noise is read near it,
+    /// where that noise bursts beyond the recording's median
+    /// ([`super::noise::local_noise_cm`]): a kick, a slash or a swing of the
+    /// arms, whose fast segments carry more of it, lasts a few tenths of a
+    /// second, and ±0.2 s holds a dozen of the choice's frames for a median.
+    pub noise_window_s: f64,
     /// Where the body moves slowly beside the pose's noise (standing,
     /// bowing, shifting its weight), the hips' path is smoothed further,
     /// until the noise left moves the hips at most this share of the
@@ -133,6 +139,7 @@ impl ContactParams {
             ("min_com_height_cm", self.min_com_height_cm, positive),
             ("max_velocity_noise_cm_per_s", self.max_velocity_noise_cm_per_s, positive),
             ("max_noise_smoothing_s", self.max_noise_smoothing_s, not_negative),
+            ("noise_window_s", self.noise_window_s, positive),
             ("still_noise_share", self.still_noise_share, positive),
             ("max_still_smoothing_s", self.max_still_smoothing_s, not_negative),
             ("lift_cm", self.lift_cm, not_negative),
@@ -157,6 +164,7 @@ impl ContactParams {
             ("jitter_s", self.jitter_s),
             ("ballistic_evidence_s", self.ballistic_evidence_s),
             ("max_noise_smoothing_s", self.max_noise_smoothing_s),
+            ("noise_window_s", self.noise_window_s),
             ("max_still_smoothing_s", self.max_still_smoothing_s),
         ] {
             if value > MAX_TIME_SCALE_S {
@@ -188,6 +196,7 @@ impl Default for ContactParams {
             min_com_height_cm: 30.0,
             max_velocity_noise_cm_per_s: 12.5,
             max_noise_smoothing_s: 0.1,
+            noise_window_s: 0.2,
             still_noise_share: 0.2,
             max_still_smoothing_s: 0.3,
         }

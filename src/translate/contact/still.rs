@@ -17,13 +17,13 @@
 use glam::DVec3;
 
 use super::noise::smoothed_noise_velocity_cm_per_s;
-use crate::signal::smoothing::smooth_gaussian_clean;
+use crate::signal::smoothing::{smooth_gaussian_clean, smoothed_point};
 
 /// How fast the smoothing's width may change (s, the Gaussian over which
 /// the chosen widths are averaged): a body goes from standing to a step in
 /// about a tenth of a second, and a width that jumped from one frame to the
 /// next would put a jump in the path.
-const WIDTH_CHANGE_S: f64 = 0.1;
+pub(super) const WIDTH_CHANGE_S: f64 = 0.1;
 
 /// The candidate widths are tried this far apart (samples).
 const WIDTH_STEP_SAMPLES: f64 = 0.25;
@@ -99,31 +99,11 @@ fn speed_cm_per_s(path: &[DVec3], f: usize, sigma: f64, dt_s: f64) -> f64 {
     (path[last] - path[first]).length() / ((last - first) as f64 * dt_s)
 }
 
-/// Frame `f` of `path` smoothed by a Gaussian of `sigma` samples (out to 2.5
-/// of them), the path's ends extended by point reflection.
+/// Frame `f` of `path` smoothed by a Gaussian of `sigma` samples (see
+/// [`smoothed_point`]); a width under [`NARROWEST_SAMPLES`] leaves it as it
+/// is.
 fn smoothed_at(path: &[DVec3], f: usize, sigma: f64) -> DVec3 {
-    if sigma < NARROWEST_SAMPLES {
-        return path[f];
-    }
-    let last = path.len() - 1;
-    let at = |k: i64| -> DVec3 {
-        match usize::try_from(k) {
-            Err(_) => 2.0 * path[0] - path[k.unsigned_abs().min(last as u64) as usize],
-            Ok(k) if k > last => 2.0 * path[last] - path[(2 * last).saturating_sub(k)],
-            Ok(k) => path[k],
-        }
-    };
-    let half = (2.5 * sigma) as i64;
-    let (mut sum, mut weights) = (DVec3::ZERO, 0.0);
-    for d in -half..=half {
-        // `libm`, not the platform's `exp`: the browser and the CLI weigh
-        // to the same bit.
-        let t = d as f64 / sigma;
-        let w = libm::exp(-0.5 * t * t);
-        sum += at(f as i64 + d) * w;
-        weights += w;
-    }
-    sum / weights
+    if sigma < NARROWEST_SAMPLES { path[f] } else { smoothed_point(path, 1, 0, f, sigma) }
 }
 
 #[cfg(test)]
