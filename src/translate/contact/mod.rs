@@ -159,11 +159,14 @@ pub fn contact_translation(
         sigma_samples,
     );
     // And where the body barely moves beside that noise, further: its steps
-    // would otherwise lengthen a standing body's path several times.
+    // would otherwise lengthen a standing body's path several times. A
+    // standing body's path wanders with the noise over tenths of a second,
+    // where noise correlated over a few frames is at its full size: the
+    // reading on frames twice as far apart.
     let path = if noisy {
         still::hold_still(
             &path,
-            noise_cm,
+            pose_noise.wander_cm(),
             sigma_samples,
             dt,
             params.still_noise_share,

@@ -41,6 +41,21 @@ pub struct PoseNoise {
     /// halfway (in ratio) between the two: on the shared suit-grade files
     /// it rises 1.0–3.5 times, on clean optical ones 24–54 times.
     pub reads_noise: bool,
+    /// The same deviation read on frames twice as far apart (cm): the same
+    /// as [`PoseNoise::cm`] for white noise, more for noise correlated over
+    /// a few frames, which the nearer fourth difference mostly cancels.
+    pub cm_twice_apart: f64,
+}
+
+impl PoseNoise {
+    /// The noise as it moves the hips of a body that stands (cm, per axis):
+    /// the larger reading. A standing body's path wanders with the noise
+    /// over tenths of a second, where noise correlated over a few frames is
+    /// at its full size (the shared bow at level 1: 0.09 cm near, 0.12–0.13
+    /// cm twice as far).
+    pub fn wander_cm(&self) -> f64 {
+        self.cm.max(self.cm_twice_apart)
+    }
 }
 
 /// White noise of deviation `σ` per axis gives a fourth difference of
@@ -61,6 +76,7 @@ pub fn pose_noise(poses: &Poses, feet: FootJoints, hips: usize, step: usize) -> 
     PoseNoise {
         cm: (near / (FOURTH_DIFFERENCE_GAIN * CHI2_3_MEDIAN)).sqrt(),
         reads_noise: near > 0.0 && far < 4.0 * near,
+        cm_twice_apart: (far / (FOURTH_DIFFERENCE_GAIN * CHI2_3_MEDIAN)).sqrt(),
     }
 }
 
@@ -223,6 +239,29 @@ mod tests {
         }
         let median = crate::signal::stats::upper_median(&local[410..450]);
         assert!((median / 3.0 - 1.0).abs() < 0.25, "{median}");
+    }
+
+    #[test]
+    fn noise_correlated_over_frames_reads_larger_twice_as_far_apart() {
+        // White noise reads alike near and twice as far apart.
+        let (white, feet) = circling(1.0, 2.0);
+        let noise = pose_noise(&white, feet, 0, 1);
+        assert!((noise.cm_twice_apart / noise.cm - 1.0).abs() < 0.15, "{noise:?}");
+        assert_eq!(noise.wander_cm(), noise.cm.max(noise.cm_twice_apart));
+        // The same noise averaged over three frames: the near fourth
+        // difference cancels most of it, the far one less.
+        let (clean, _) = circling(0.0, 2.0);
+        let jitter = |g: usize, joint: usize| white.at(g, joint) - clean.at(g, joint);
+        let mut correlated = clean.clone();
+        for f in 1..white.frame_count() - 1 {
+            for joint in 1..3 {
+                correlated.positions_cm[f * 3 + joint] +=
+                    (jitter(f - 1, joint) + jitter(f, joint) + jitter(f + 1, joint)) / 3.0;
+            }
+        }
+        let noise = pose_noise(&correlated, feet, 0, 1);
+        assert!(noise.reads_noise, "{noise:?}");
+        assert!(noise.cm_twice_apart > 1.3 * noise.cm, "{noise:?}");
     }
 
     #[test]
