@@ -31,7 +31,8 @@
 //! relative to the hips is tens of cm/s of velocity at 30 fps. The noise is
 //! measured on the recording (`noise.rs`) and smoothed away before the
 //! contacts are chosen, over the least time that brings it below what the
-//! choice weighs; a clean optical pose is not smoothed.
+//! choice weighs, and wider where a kick or a swing makes it burst; a clean
+//! optical pose is not smoothed.
 //!
 //! Everything is in seconds and centimetres ([`ContactParams`]), and the
 //! costs are integrals over time. The contacts are chosen on frames about
