@@ -91,7 +91,7 @@ pub struct ContactParams {
     pub max_noise_smoothing_s: f64,
     /// How far either side of a frame (s) the pose's noise is read near it,
     /// where that noise bursts beyond the recording's median
-    /// ([`super::noise::local_noise_cm`]): a kick, a slash or a swing of the
+    /// (`noise::local_noise_cm`): a kick, a slash or a swing of the
     /// arms, whose fast segments carry more of it, lasts a few tenths of a
     /// second, and ±0.2 s holds a dozen of the choice's frames for a median.
     pub noise_window_s: f64,
