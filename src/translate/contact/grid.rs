@@ -22,10 +22,10 @@ use super::flight::{Lifts, flights};
 use super::footing::{Candidate, Footing};
 use super::noise::smoothing_samples;
 use super::solve::{Problem, Solution};
-use super::still::WIDTH_CHANGE_S;
+use super::still::eased_widths;
 use crate::body::feet::PerFoot;
 use crate::body::sole::Sole;
-use crate::signal::smoothing::{smooth_gaussian_clean, smooth_paths, smooth_paths_wider_where};
+use crate::signal::smoothing::{smooth_paths, smooth_paths_wider_where};
 
 /// The choice of contacts on `frames` (in that order, `dt` s apart) of
 /// `soles` and `motion`.
@@ -125,8 +125,8 @@ impl Grid {
     /// frame (`local_noise_cm`, see [`super::noise::local_noise_cm`]) is over
     /// `slip_cm_per_s / max_velocity_noise_cm_per_s` (twice) the recording's
     /// `noise_cm`: there, to what that noise asks (at most
-    /// `max_noise_smoothing_s`), the widths changing over
-    /// [`WIDTH_CHANGE_S`]. Frames at `fps`.
+    /// `max_noise_smoothing_s`), the widths changing as smoothly as the
+    /// stillness's ([`eased_widths`]). Frames at `fps`.
     ///
     /// Why: the recording's smoothing brings its median noise down to
     /// `max_velocity_noise_cm_per_s`, half a slip unit. Where the noise is
@@ -160,7 +160,7 @@ impl Grid {
         if widths.iter().all(|&w| w <= self.sigma_samples) {
             return;
         }
-        let widths = smooth_gaussian_clean(&widths, 2.0 * 2.5 * WIDTH_CHANGE_S * fps, 2.5);
+        let widths = eased_widths(&widths, 1.0 / fps);
         // Never below the recording's own smoothing; where the widening has
         // faded to rounding, that smoothing exactly.
         self.burst_sigma_samples = widths

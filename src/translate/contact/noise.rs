@@ -74,9 +74,9 @@ pub fn pose_noise(poses: &Poses, feet: FootJoints, hips: usize, step: usize) -> 
     let near = fourth_difference_median(poses, feet, hips, k);
     let far = fourth_difference_median(poses, feet, hips, 2 * k);
     PoseNoise {
-        cm: (near / (FOURTH_DIFFERENCE_GAIN * CHI2_3_MEDIAN)).sqrt(),
+        cm: deviation_cm(near),
         reads_noise: near > 0.0 && far < 4.0 * near,
-        cm_twice_apart: (far / (FOURTH_DIFFERENCE_GAIN * CHI2_3_MEDIAN)).sqrt(),
+        cm_twice_apart: deviation_cm(far),
     }
 }
 
@@ -109,13 +109,8 @@ pub fn local_noise_cm(
     let per_foot: Vec<Vec<f64>> = feet
         .iter()
         .map(|(_, &joint)| {
-            let at = |f: usize| -> DVec3 { poses.at(f, joint) - poses.at(f, hips) };
             let squared: Vec<f64> = (0..n)
-                .map(|f| {
-                    let f = f.clamp(2 * k, n - 1 - 2 * k);
-                    (at(f - 2 * k) - 4.0 * at(f - k) + 6.0 * at(f) - 4.0 * at(f + k) + at(f + 2 * k))
-                        .length_squared()
-                })
+                .map(|f| fourth_difference_squared(poses, joint, hips, k, f.clamp(2 * k, n - 1 - 2 * k)))
                 .collect();
             // The upper median of each window, selected in a buffer used
             // again for every frame.
@@ -132,9 +127,22 @@ pub fn local_noise_cm(
                 .collect()
         })
         .collect();
-    (0..n)
-        .map(|f| (per_foot[0][f].min(per_foot[1][f]) / (FOURTH_DIFFERENCE_GAIN * CHI2_3_MEDIAN)).sqrt())
-        .collect()
+    (0..n).map(|f| deviation_cm(per_foot[0][f].min(per_foot[1][f]))).collect()
+}
+
+/// The squared length of the fourth difference
+/// `p[f-2k] − 4 p[f-k] + 6 p[f] − 4 p[f+k] + p[f+2k]` of `joint`'s path
+/// relative to `hips`, `k = step`; `f` at least `2 step` from either end.
+fn fourth_difference_squared(poses: &Poses, joint: usize, hips: usize, step: usize, f: usize) -> f64 {
+    let k = step;
+    let at = |f: usize| -> DVec3 { poses.at(f, joint) - poses.at(f, hips) };
+    (at(f - 2 * k) - 4.0 * at(f - k) + 6.0 * at(f) - 4.0 * at(f + k) + at(f + 2 * k)).length_squared()
+}
+
+/// The per-axis deviation (cm) of white noise whose squared fourth
+/// differences have the median `median_squared` (see [`PoseNoise::cm`]).
+fn deviation_cm(median_squared: f64) -> f64 {
+    (median_squared / (FOURTH_DIFFERENCE_GAIN * CHI2_3_MEDIAN)).sqrt()
 }
 
 /// The median squared length of the fourth difference
@@ -148,10 +156,7 @@ fn fourth_difference_median(poses: &Poses, feet: FootJoints, hips: usize, step: 
     }
     let mut values = Vec::with_capacity(2 * n);
     for (_, &joint) in feet.iter() {
-        let at = |f: usize| -> DVec3 { poses.at(f, joint) - poses.at(f, hips) };
-        values.extend((2 * k..n - 2 * k).map(|f| {
-            (at(f - 2 * k) - 4.0 * at(f - k) + 6.0 * at(f) - 4.0 * at(f + k) + at(f + 2 * k)).length_squared()
-        }));
+        values.extend((2 * k..n - 2 * k).map(|f| fourth_difference_squared(poses, joint, hips, k, f)));
     }
     upper_median(&values)
 }

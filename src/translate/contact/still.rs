@@ -23,7 +23,7 @@ use crate::signal::smoothing::{smooth_gaussian_clean, smoothed_point};
 /// the chosen widths are averaged): a body goes from standing to a step in
 /// about a tenth of a second, and a width that jumped from one frame to the
 /// next would put a jump in the path.
-pub(super) const WIDTH_CHANGE_S: f64 = 0.1;
+const WIDTH_CHANGE_S: f64 = 0.1;
 
 /// The candidate widths are tried this far apart (samples).
 const WIDTH_STEP_SAMPLES: f64 = 0.25;
@@ -67,8 +67,14 @@ pub fn hold_still(
                 .map_or(widths[widths.len() - 1], |(&s, _)| s)
         })
         .collect();
-    let chosen = smooth_gaussian_clean(&chosen, 2.0 * 2.5 * WIDTH_CHANGE_S / dt_s, 2.5);
+    let chosen = eased_widths(&chosen, dt_s);
     (0..n).map(|f| smoothed_at(path, f, chosen[f])).collect()
+}
+
+/// `widths` (samples, one per frame, frames `dt_s` apart) averaged over
+/// [`WIDTH_CHANGE_S`]: a width chosen frame by frame, changed that smoothly.
+pub(super) fn eased_widths(widths: &[f64], dt_s: f64) -> Vec<f64> {
+    smooth_gaussian_clean(widths, 2.0 * 2.5 * WIDTH_CHANGE_S / dt_s, 2.5)
 }
 
 /// The speed of the noise left after a further Gaussian of each of
