@@ -36,6 +36,7 @@ fn problem_at(frames: &[usize], soles: &PerFoot<Sole>, motion: &Motion, dt: f64)
         motion.accel_off_g.as_ref().map(|off| frames.iter().map(|&f| off[f]).collect()),
         dt,
         motion.open_start,
+        frames.iter().map(|&f| motion.coast_cost_per_s[f]).collect(),
     )
 }
 
@@ -59,6 +60,8 @@ pub(super) struct Motion {
     pub dt: f64,
     /// Whether the take may start coasting with a velocity yet unknown.
     pub open_start: bool,
+    /// Per frame, what a second of coasting costs there.
+    pub coast_cost_per_s: Vec<f64>,
 }
 
 /// One phase's choice of contacts and what it was chosen from.

@@ -132,16 +132,35 @@ pub fn contact_translation(
         let local_noise_cm = noise::local_noise_cm(poses, feet, hips, step, half_window);
         grid.widen_where_noise_bursts(&local_noise_cm, noise_cm, fps, params);
     }
-    let motion = Motion {
+    let mut motion = Motion {
         hips_to_com_cm: grid.smooth_for_choice(&hips_to_com_cm(poses, parents, feet, hips), 1),
         accel_off_g: accel_off_g(foot_accel_g, n),
         dt,
         open_start: grid.moves_measured_apart(),
+        coast_cost_per_s: vec![params.coast_cost_per_s; n],
     };
     let shapes = foot_shapes(poses, parents, feet, hips);
     let has_toes = shapes.left.has_toes() || shapes.right.has_toes();
-    let (sole_depth_cm, soles, mut choices) = choose_sole_depth(&shapes, has_toes, &grid, &motion, params)?;
+    let (mut sole_depth_cm, mut soles, mut choices) =
+        choose_sole_depth(&shapes, has_toes, &grid, &motion, params)?;
     grid.start_from_what_follows(&mut choices, &soles, &motion, params);
+    // Where a noisy pose's body stays in place, it does not coast (see
+    // `still::in_place`), read from the path these contacts give; chosen
+    // again if it is anywhere. A clean pose's coasts carry the body's own
+    // velocity.
+    if pose_noise.reads_noise {
+        let footing = Footing::new(shapes.as_ref().map(|shape| shape.sole(sole_depth_cm)));
+        let path = grid.hips_path(&footing, &choices, horizontal(poses.at(0, hips)), dt);
+        let hips_cm = upper_median(&footing.lowest.standing_cm);
+        let in_place = still::in_place(&path, hips_cm, dt, params);
+        if in_place.contains(&true) {
+            for (cost, _) in motion.coast_cost_per_s.iter_mut().zip(&in_place).filter(|(_, here)| **here) {
+                *cost = params.in_place_coast_cost_per_s;
+            }
+            (sole_depth_cm, soles, choices) = choose_sole_depth(&shapes, has_toes, &grid, &motion, params)?;
+            grid.start_from_what_follows(&mut choices, &soles, &motion, params);
+        }
+    }
 
     // Back to every frame, on the unsmoothed soles.
     let footing = Footing::new(shapes.as_ref().map(|shape| shape.sole(sole_depth_cm)));

@@ -42,6 +42,25 @@ pub struct ContactParams {
     /// pinned against 9 coasting) coasts, and a walk's handover (~0.1 s, feet
     /// ~40 cm/s off: ~5 against 6) mostly does not.
     pub coast_cost_per_s: f64,
+    /// What a second of coasting costs where the body is in place
+    /// ([`super::still::in_place`]), on a noisy pose: in place a body leaves
+    /// the floor only to jump, and a coast there carries the velocity the
+    /// pose's noise gave its last pin, not a momentum (the suit-grade dances'
+    /// and kicks' coasts carried 50–150 cm/s where the truth stood on one
+    /// foot). Eight times the moving price; four times, or no coasting in
+    /// place at all, move the figures little (docs/contact.md).
+    pub in_place_coast_cost_per_s: f64,
+    /// A body whose hips progress slower than `√(Fr g L)` is in place, with
+    /// `Fr` this Froude number and `L` its standing hips height: 1/16 is
+    /// half the speed of its easiest walk (Froude number 1/4, where the
+    /// legs' pendulum exchanges its energies best), slower than a walk keeps
+    /// going: 74 cm/s for hips 90 cm high.
+    pub in_place_froude: f64,
+    /// How far either side of a frame (s) the hips' progress is read for
+    /// [`ContactParams::in_place_froude`]: about two steps either side at the
+    /// easiest walk's cadence, so the hips' sway over each foot cancels and
+    /// the strides' progress remains.
+    pub in_place_window_s: f64,
     /// The longest a body can coast (s): the time in the air of a standing
     /// jump 30 cm high. Without a limit one wrong velocity would be carried
     /// across a whole recording.
@@ -140,11 +159,14 @@ impl ContactParams {
             ("max_velocity_noise_cm_per_s", self.max_velocity_noise_cm_per_s, positive),
             ("max_noise_smoothing_s", self.max_noise_smoothing_s, not_negative),
             ("noise_window_s", self.noise_window_s, positive),
+            ("in_place_window_s", self.in_place_window_s, positive),
             ("still_noise_share", self.still_noise_share, positive),
             ("max_still_smoothing_s", self.max_still_smoothing_s, not_negative),
             ("lift_cm", self.lift_cm, not_negative),
             ("flight_margin_cm", self.flight_margin_cm, not_negative),
             ("coast_cost_per_s", self.coast_cost_per_s, not_negative),
+            ("in_place_coast_cost_per_s", self.in_place_coast_cost_per_s, not_negative),
+            ("in_place_froude", self.in_place_froude, not_negative),
             ("jitter_s", self.jitter_s, not_negative),
             ("min_takeoff_cm_per_s", self.min_takeoff_cm_per_s, not_negative),
         ];
@@ -166,6 +188,7 @@ impl ContactParams {
             ("max_noise_smoothing_s", self.max_noise_smoothing_s),
             ("noise_window_s", self.noise_window_s),
             ("max_still_smoothing_s", self.max_still_smoothing_s),
+            ("in_place_window_s", self.in_place_window_s),
         ] {
             if value > MAX_TIME_SCALE_S {
                 return Err(format!(
@@ -187,6 +210,9 @@ impl Default for ContactParams {
             sole_depth_cm: None,
             cost_time_s: 1.0 / 30.0,
             coast_cost_per_s: 60.0,
+            in_place_coast_cost_per_s: 480.0,
+            in_place_froude: 1.0 / 16.0,
+            in_place_window_s: 1.0,
             max_coast_s: 0.5,
             jitter_s: 0.03,
             com_prior_cm: 100.0,

@@ -28,8 +28,9 @@
 //!   `((a − 1) / accel_slip_g)²` per `cost_time_s`;
 //! - a pinned point `d` cm from the centre of mass's floor projection costs
 //!   `(d / com_prior_cm)²` per `cost_time_s`;
-//! - coasting costs `coast_cost_per_s` per second, more where a foot's
-//!   accelerometer says it rests on the floor; the floor does not push a
+//! - coasting costs `coast_cost_per_s` per second (`in_place_coast_cost_per_s`
+//!   where a noisy pose's body is in place, see [`super::still::in_place`]),
+//!   more where a foot's accelerometer says it rests on the floor; the floor does not push a
 //!   coasting body, which keeps the velocity it came in with;
 //! - a take may start coasting with a velocity yet unknown, set by the first
 //!   pin, which is then checked against its own next move
@@ -60,6 +61,10 @@ pub(super) struct Problem {
     /// Whether the take may start coasting with a velocity yet unknown (see
     /// [`Problem::start_state`]).
     pub open_start: bool,
+    /// Per frame, what a second of coasting costs there
+    /// (`coast_cost_per_s`, or `in_place_coast_cost_per_s` where the body is
+    /// in place).
+    pub coast_cost_per_s: Vec<f64>,
     /// Every candidate, in the order of [`Footing::candidates`]: coasting
     /// last.
     candidates: Vec<Candidate>,
@@ -110,9 +115,10 @@ impl Problem {
         accel_off_g: PerFoot<Vec<Option<f64>>>,
         dt: f64,
         open_start: bool,
+        coast_cost_per_s: Vec<f64>,
     ) -> Problem {
         let candidates = footing.candidates();
-        Problem { footing, hips_to_com_cm, accel_off_g, dt, open_start, candidates }
+        Problem { footing, hips_to_com_cm, accel_off_g, dt, open_start, coast_cost_per_s, candidates }
     }
 
     pub fn frame_count(&self) -> usize {
@@ -227,7 +233,7 @@ impl Problem {
                             .map_or(0.0, |off| (1.0 - off / params.accel_slip_g).max(0.0))
                     })
                     .fold(0.0, f64::max);
-                params.coast_cost_per_s * self.dt
+                self.coast_cost_per_s[f] * self.dt
                     + (resting / params.accel_slip_g).powi(2) * (self.dt / params.cost_time_s)
             }
         }
