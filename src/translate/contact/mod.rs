@@ -32,15 +32,19 @@
 //! measured on the recording (`noise.rs`) and smoothed away before the
 //! contacts are chosen, over the least time that brings it below what the
 //! choice weighs, and wider where a kick or a swing makes it burst; a clean
-//! optical pose is not smoothed.
+//! optical pose is not smoothed. Where a noisy pose's body barely
+//! progresses, a coast would carry that noise, not a momentum: coasting
+//! costs more there and the contacts are chosen a second time; and where
+//! it barely moves, its hips are held still against the noise (`still.rs`).
 //!
 //! Everything is in seconds and centimetres ([`ContactParams`]), and the
 //! costs are integrals over time. The contacts are chosen on frames about
 //! 1/30 s apart, once for each way of taking them, and the paths averaged
 //! (`grid.rs`), so that a jump of velocity, where the pinned point changes,
 //! weighs about what it weighs at 30 fps at any rate. The cost is
-//! O(frames × sole points²) per sole depth tried, plus O(frames × step) to
-//! bring the grids back to every frame. Measured figures and the method's
+//! O(frames × sole points²) per sole depth tried (twice on a noisy pose
+//! that stays in place somewhere), plus O(frames × step) to bring the grids
+//! back to every frame. Measured figures and the method's
 //! history are in `docs/contact.md`.
 
 mod flight;
