@@ -43,7 +43,7 @@ pub struct ContactParams {
     /// ~40 cm/s off: ~5 against 6) mostly does not.
     pub coast_cost_per_s: f64,
     /// What a second of coasting costs where the body is in place
-    /// ([`super::still::in_place`]), on a noisy pose: in place a body leaves
+    /// (`still::in_place`), on a noisy pose: in place a body leaves
     /// the floor only to jump, and a coast there carries the velocity the
     /// pose's noise gave its last pin, not a momentum (the suit-grade dances'
     /// and kicks' coasts carried 50–150 cm/s where the truth stood on one
