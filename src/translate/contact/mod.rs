@@ -158,9 +158,10 @@ pub fn contact_translation(
         let hips_cm = upper_median(&footing.lowest.standing_cm);
         let in_place = still::in_place(&path, hips_cm, dt, params);
         if in_place.contains(&true) {
-            for (cost, _) in motion.coast_cost_per_s.iter_mut().zip(&in_place).filter(|(_, here)| **here) {
-                *cost = params.in_place_coast_cost_per_s;
-            }
+            motion.coast_cost_per_s = in_place
+                .iter()
+                .map(|&here| if here { params.in_place_coast_cost_per_s } else { params.coast_cost_per_s })
+                .collect();
             (sole_depth_cm, soles, choices) = choose_sole_depth(&shapes, has_toes, &grid, &motion, params)?;
             grid.start_from_what_follows(&mut choices, &soles, &motion, params);
         }

@@ -28,10 +28,11 @@
 //!   `((a − 1) / accel_slip_g)²` per `cost_time_s`;
 //! - a pinned point `d` cm from the centre of mass's floor projection costs
 //!   `(d / com_prior_cm)²` per `cost_time_s`;
-//! - coasting costs `coast_cost_per_s` per second (`in_place_coast_cost_per_s`
-//!   where a noisy pose's body is in place, see [`super::still::in_place`]),
-//!   more where a foot's accelerometer says it rests on the floor; the floor does not push a
-//!   coasting body, which keeps the velocity it came in with;
+//! - coasting costs `coast_cost_per_s` per second
+//!   (`in_place_coast_cost_per_s` where a noisy pose's body is in place,
+//!   see [`super::still::in_place`]), more where a foot's accelerometer says
+//!   it rests on the floor; the floor does not push a coasting body, which
+//!   keeps the velocity it came in with;
 //! - a take may start coasting with a velocity yet unknown, set by the first
 //!   pin, which is then checked against its own next move
 //!   ([`Problem::start_state`]).

@@ -19,8 +19,8 @@
 
 use glam::DVec3;
 
-use super::ContactParams;
 use super::noise::smoothed_noise_velocity_cm_per_s;
+use super::{ContactParams, horizontal};
 use crate::signal::accel::STANDARD_GRAVITY_CM_PER_S2;
 use crate::signal::smoothing::{smooth_gaussian_clean, smoothed_point};
 
@@ -136,8 +136,7 @@ pub fn in_place(path: &[DVec3], hips_cm: f64, dt_s: f64, params: &ContactParams)
     (0..n)
         .map(|f| {
             let (a, b) = (f.saturating_sub(reach), (f + reach).min(n - 1));
-            let progress = path[b] - path[a];
-            let speed = DVec3::new(progress.x, 0.0, progress.z).length() / ((b - a).max(1) as f64 * dt_s);
+            let speed = horizontal(path[b] - path[a]).length() / ((b - a).max(1) as f64 * dt_s);
             speed < slowest_cm_per_s
         })
         .collect()
