@@ -18,6 +18,7 @@
 use glam::DVec3;
 
 use super::ContactParams;
+use super::carry::{Stance, StanceExit, pressed_at};
 use super::flight::{Lifts, flights};
 use super::footing::{Candidate, Footing};
 use super::noise::smoothing_samples;
@@ -274,23 +275,71 @@ impl Grid {
     /// The hips' horizontal path (cm) on `footing` (every frame, `dt` s
     /// apart), from `start`: each frame's velocity the mean of the phases'.
     /// Pinned points hold still frame by frame; a coasting body keeps the
-    /// velocity of its phase's step.
-    pub fn hips_path(&self, footing: &Footing, choices: &[PhaseChoice], start: DVec3, dt: f64) -> Vec<DVec3> {
+    /// velocity of its phase's step, or, with `exit`, the velocity at the end
+    /// of the stance before it where that can be read (`carry.rs`).
+    pub fn hips_path(
+        &self,
+        footing: &Footing,
+        choices: &[PhaseChoice],
+        start: DVec3,
+        dt: f64,
+        exit: Option<&StanceExit>,
+    ) -> Vec<DVec3> {
         let n = footing.frame_count();
+        let mut velocity = vec![DVec3::ZERO; n];
+        for (phase, choice) in choices.iter().enumerate() {
+            for (sum, v) in velocity.iter_mut().zip(self.phase_velocities(phase, footing, choice, dt, exit)) {
+                *sum += v;
+            }
+        }
         let mut path = vec![start; n];
         for f in 1..n {
-            let velocity = (0..choices.len())
-                .map(|phase| {
-                    let solution = &choices[phase].solution;
-                    let g = self.step_at(phase, f);
-                    let candidate = solution.chosen[g];
-                    footing.hips_velocity(candidate, f, dt).unwrap_or_else(|| solution.hips_velocity[g])
-                })
-                .sum::<DVec3>()
-                / choices.len() as f64;
-            path[f] = path[f - 1] + velocity * dt;
+            path[f] = path[f - 1] + velocity[f] / choices.len() as f64 * dt;
         }
         path
+    }
+
+    /// Per frame, the hips' horizontal velocity (cm/s) that `phase`'s
+    /// `choice` gives (see [`Grid::hips_path`]); zero in frame 0.
+    fn phase_velocities(
+        &self,
+        phase: usize,
+        footing: &Footing,
+        choice: &PhaseChoice,
+        dt: f64,
+        exit: Option<&StanceExit>,
+    ) -> Vec<DVec3> {
+        let n = footing.frame_count();
+        let solution = &choice.solution;
+        let mut velocity = vec![DVec3::ZERO; n];
+        let mut pressed = vec![DVec3::ZERO; n];
+        let mut stance: Option<Stance> = None;
+        // The centre of mass's velocity the coast under way carries, where
+        // it was read from its stance.
+        let mut carried: Option<Option<DVec3>> = None;
+        for f in 1..n {
+            let g = self.step_at(phase, f);
+            let candidate = solution.chosen[g];
+            if let (Some(pinned), Some(point)) =
+                (footing.hips_velocity(candidate, f, dt), pressed_at(footing, candidate, f))
+            {
+                velocity[f] = pinned;
+                pressed[f] = point;
+                stance = Stance::of(candidate, f, stance);
+                carried = None;
+                continue;
+            }
+            let from_stance = *carried.get_or_insert_with(|| {
+                let (exit, stance) = (exit?, stance?);
+                exit.velocity(stance, f, &velocity, &pressed, &footing.lowest.standing_cm, dt)
+            });
+            stance = None;
+            velocity[f] = match (from_stance, exit) {
+                (Some(com), Some(exit)) => exit.hips_velocity(com, f, dt),
+                _ => solution.hips_velocity[g],
+            };
+        }
+        velocity
     }
 
     /// The hips' height above standing `standing_cm` (every frame) and the

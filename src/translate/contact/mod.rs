@@ -36,6 +36,8 @@
 //! progresses, a coast would carry that noise, not a momentum: coasting
 //! costs more there and the contacts are chosen a second time; and where
 //! it barely moves, its hips are held still against the noise (`still.rs`).
+//! Elsewhere a noisy pose's coast carries the velocity its stance ends with,
+//! read from the stance itself, not from the smoothing (`carry.rs`).
 //!
 //! Everything is in seconds and centimetres ([`ContactParams`]), and the
 //! costs are integrals over time. The contacts are chosen on frames about
@@ -47,6 +49,7 @@
 //! back to every frame. Measured figures and the method's
 //! history are in `docs/contact.md`.
 
+mod carry;
 mod flight;
 mod footing;
 mod grid;
@@ -66,6 +69,7 @@ use crate::body::skeleton::Poses;
 use crate::body::sole::{FootShape, Sole, SolePart, foot_shapes};
 use crate::signal::smoothing::smooth_paths;
 use crate::signal::stats::upper_median;
+use carry::StanceExit;
 use footing::{Candidate, Footing};
 use grid::{Grid, Motion, PhaseChoice, Vertical};
 
@@ -152,11 +156,12 @@ pub fn contact_translation(
     // `still::in_place`), read from the path these contacts give; chosen
     // again if it is anywhere. A clean pose's coasts carry the body's own
     // velocity.
+    let mut in_place = vec![false; n];
     if pose_noise.reads_noise {
         let footing = Footing::new(shapes.as_ref().map(|shape| shape.sole(sole_depth_cm)));
-        let path = grid.hips_path(&footing, &choices, horizontal(poses.at(0, hips)), dt);
+        let path = grid.hips_path(&footing, &choices, horizontal(poses.at(0, hips)), dt, None);
         let hips_cm = upper_median(&footing.lowest.standing_cm);
-        let in_place = still::in_place(&path, hips_cm, dt, params);
+        in_place = still::in_place(&path, hips_cm, dt, params);
         if in_place.contains(&true) {
             motion.coast_cost_per_s = in_place
                 .iter()
@@ -178,8 +183,16 @@ pub fn contact_translation(
     // clean pose's pinned points are exact: smoothed, its feet would slide.)
     let noisy = pose_noise.reads_noise;
     let sigma_samples = if noisy { grid.sigma_samples } else { grid.noise_sigma_samples };
+    // A noisy pose's coasts carry the velocity their stance ends with
+    // (`carry.rs`).
+    let exit = (noisy && params.carry_stance_velocity).then(|| StanceExit {
+        hips_to_com_cm: &motion.hips_to_com_cm,
+        in_place: &in_place,
+        min_stance_frames: (params.min_carried_stance_s * fps).round() as usize,
+        min_com_height_cm: params.min_com_height_cm,
+    });
     let path = smooth_paths(
-        &grid.hips_path(&footing, &choices, horizontal(poses.at(0, hips)), dt),
+        &grid.hips_path(&footing, &choices, horizontal(poses.at(0, hips)), dt, exit.as_ref()),
         1,
         sigma_samples,
     );
