@@ -11,7 +11,6 @@ use crate::body::skeleton::Poses;
 use crate::error::Error;
 use crate::io::recording::{FeetChoice, Recording};
 use crate::translate::Method;
-use crate::translate::contact::ContactParams;
 
 /// The suit's recording as the tracker reads it, at any video time.
 #[derive(Clone, Debug)]
@@ -44,18 +43,11 @@ pub enum BvhInstant {
 
 impl SuitMotion {
     /// Reads `recording` (its own translation kept aside as the suit's) and
-    /// runs the contact method on it, its coasts at the smoothed choice's
-    /// velocity: a run's strides come out short, but by much the same share
-    /// each stride, which the fused tracker learns from the camera
-    /// (`smoother.rs`); a stance's own velocity
-    /// ([`ContactParams::carry_stance_velocity`]) is right on average but
-    /// off by another share every stance, which it cannot learn (the shared
-    /// run scene's track 6.4 → 7.8 cm with it, over five runs).
+    /// runs the contact method on it.
     pub fn new(recording: &Recording) -> Result<SuitMotion, Error> {
         let feet = recording.feet(&FeetChoice::default())?;
         let hips = recording.hips(feet);
-        let inertial = ContactParams { carry_stance_velocity: false, ..ContactParams::default() };
-        let translated = recording.translate(&FeetChoice::default(), &Method::Contact(inertial))?;
+        let translated = recording.translate(&FeetChoice::default(), &Method::default())?;
         let ground_cm = translated.contact().map_or(0.0, |c| c.ground_cm);
         let n = recording.frame_count();
         let mut body_cm = translated.poses.clone();

@@ -1,17 +1,29 @@
-//! What a coast carries on a noisy pose: the centre of mass's velocity at
-//! the end of the stance before it, read from the stance itself.
+//! What a coast carries on a noisy pose: the smoothed choice's velocity,
+//! scaled by how much faster the stances around it end than that smoothing
+//! reads them.
 //!
 //! The choice of contacts weighs velocities on soles smoothed against the
 //! pose's noise (`noise.rs`), and a coast carries the velocity of the
 //! smoothed choice at its last pinned step. A runner's stance lasts 4–6
 //! frames, and that smoothing reaches across it into the swing: on the
 //! suit-grade runs at level 1 the coasts carried 180–200 cm/s where the
-//! runner ran at 300, and the runs lost a quarter of their strides. So a
-//! coast after a stance of at least `min_carried_stance_s` carries instead
-//! the stance's own velocity, unsmoothed: the mean of its pinned steps (the
-//! noise averages out over the stance), brought from the stance's middle
-//! to its end by the floor's push on the inverted pendulum over the pinned
-//! point (`pressure.rs`), which speeds a body up once it is past its foot.
+//! runner ran at 300, and the runs lost a quarter of their strides.
+//!
+//! A stance of at least `min_carried_stance_s` tells its own velocity,
+//! unsmoothed: the mean of its pinned steps (the noise averages out over
+//! the stance), brought from the stance's middle to its end by the floor's
+//! push on the inverted pendulum over the pinned point (`pressure.rs`),
+//! which speeds a body up once it is past its foot. Carried as it is, that
+//! velocity is right on average but off by another share every stance (its
+//! noise over 4–6 frames), and a camera tracker, which learns a steady
+//! stride error from what it sees (`track::smoother`), cannot follow that
+//! (the shared run scene's track 6.4 → 7.8 cm over five runs). So the
+//! stances' readings only say by how much the smoothing falls short: per
+//! coast, the least-squares factor from the smoothed velocity to the
+//! stances' own over the coasts within about two steps either side
+//! (`carry_window_s`). The shortfall comes from the smoothing's reach
+//! against the stance's length, which a gait keeps stride after stride, and
+//! a coast keeps the smoothed velocity's own steadiness.
 //!
 //! Not where the body is in place (`still::in_place`): there a coast is
 //! rare and short, and a stance's mean velocity is the pose's noise (the
@@ -35,7 +47,26 @@ pub(super) struct StanceExit<'a> {
     pub min_stance_frames: usize,
     /// See [`super::ContactParams::min_com_height_cm`].
     pub min_com_height_cm: f64,
+    /// How far either side of a coast (frames, a Gaussian's deviation) the
+    /// stances' readings count ([`super::ContactParams::carry_window_s`]).
+    pub window_frames: f64,
 }
+
+/// A stance's end read two ways, at the first frame of the coast after it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct ExitReading {
+    /// The coast's first frame.
+    pub frame: usize,
+    /// The hips' velocity (cm/s) the stance itself ends with
+    /// ([`StanceExit::velocity`]).
+    pub read: DVec3,
+    /// The smoothed choice's hips velocity (cm/s) in the same frame.
+    pub smoothed: DVec3,
+}
+
+/// Readings further than this many deviations of the window from a frame
+/// are left out of its sum: their Gaussian weight is below 1/2900.
+const READING_REACH_SIGMAS: f64 = 4.0;
 
 /// A run of frames pinned on one foot (any of its points: a foot rolls from
 /// heel to toes), or on both.
@@ -101,6 +132,25 @@ impl StanceExit<'_> {
         Some(mean_com + pushed - pushed_sum / frames as f64)
     }
 
+    /// By how much the smoothed velocity falls short of the stances' own
+    /// around frame `f`: the least-squares factor `k` in `read ≈ k ·
+    /// smoothed` over `readings` (in frame order), each weighed by a
+    /// Gaussian of [`StanceExit::window_frames`] in time; 1 where none is
+    /// near. Fast readings weigh most, so a slow coast's noisy direction
+    /// does not tip it.
+    pub fn shortfall_at(&self, f: usize, readings: &[ExitReading]) -> f64 {
+        let (f, reach) = (f as f64, READING_REACH_SIGMAS * self.window_frames);
+        let from = readings.partition_point(|r| (r.frame as f64) < f - reach);
+        let (mut along, mut smoothed_sq) = (0.0, 0.0);
+        for reading in readings[from..].iter().take_while(|r| r.frame as f64 <= f + reach) {
+            let d = (reading.frame as f64 - f) / self.window_frames;
+            let weight = libm::exp(-0.5 * d * d);
+            along += weight * reading.read.dot(reading.smoothed);
+            smoothed_sq += weight * reading.smoothed.length_squared();
+        }
+        if smoothed_sq > 0.0 { along / smoothed_sq } else { 1.0 }
+    }
+
     /// The hips' horizontal velocity (cm/s) for the move into frame `f`
     /// (`dt` s after the one before) of a centre of mass moving at `com`.
     pub fn hips_velocity(&self, com: DVec3, f: usize, dt: f64) -> DVec3 {
@@ -142,6 +192,7 @@ mod tests {
             in_place: &in_place,
             min_stance_frames: 3,
             min_com_height_cm: 30.0,
+            window_frames: 30.0,
         };
         let hips_velocity = vec![DVec3::new(0.0, 0.0, 300.0); n];
         let pressed = vec![DVec3::new(0.0, -90.0, 0.0) - lean; n];
@@ -167,8 +218,51 @@ mod tests {
         assert!((exit.z - expected).abs() < 1e-9 && exit.x.abs() < 1e-12, "{exit} against {expected}");
     }
 
+    fn reading(frame: usize, smoothed_z: f64, factor: f64) -> ExitReading {
+        let smoothed = DVec3::new(0.0, 0.0, smoothed_z);
+        ExitReading { frame, read: smoothed * factor, smoothed }
+    }
+
+    fn exit_with_window(window_frames: f64) -> StanceExit<'static> {
+        StanceExit {
+            hips_to_com_cm: &[],
+            in_place: &[],
+            min_stance_frames: 3,
+            min_com_height_cm: 30.0,
+            window_frames,
+        }
+    }
+
     #[test]
-    fn short_stances_and_bodies_in_place_keep_the_smoothed_velocity() {
+    fn a_steady_shortfall_is_read_whatever_the_speed() {
+        let readings: Vec<ExitReading> =
+            (0..10).map(|k| reading(10 * k, 150.0 + 20.0 * k as f64, 1.25)).collect();
+        let exit = exit_with_window(30.0);
+        for f in [0, 37, 95, 200] {
+            assert!((exit.shortfall_at(f, &readings) - 1.25).abs() < 1e-12, "frame {f}");
+        }
+    }
+
+    #[test]
+    fn without_readings_near_the_smoothed_velocity_is_kept() {
+        let exit = exit_with_window(30.0);
+        assert_eq!(exit.shortfall_at(50, &[]), 1.0);
+        assert_eq!(exit.shortfall_at(1000, &[reading(10, 200.0, 1.5)]), 1.0);
+    }
+
+    /// A walk's stances read 1.1, a run's two seconds later 1.4: each
+    /// coast takes its own gait's, not the take's mean.
+    #[test]
+    fn the_shortfall_follows_a_change_of_gait() {
+        let mut readings: Vec<ExitReading> = (0..6).map(|k| reading(15 * k, 120.0, 1.1)).collect();
+        readings.extend((0..6).map(|k| reading(150 + 10 * k, 300.0, 1.4)));
+        let exit = exit_with_window(30.0);
+        assert!((exit.shortfall_at(30, &readings) - 1.1).abs() < 0.01);
+        assert!((exit.shortfall_at(180, &readings) - 1.4).abs() < 0.01);
+    }
+
+    #[test]
+    fn short_stances_and_bodies_in_place_are_not_read() {
         assert_eq!(exit_of(2, DVec3::ZERO, false), None);
         assert_eq!(exit_of(5, DVec3::ZERO, true), None);
     }

@@ -18,7 +18,7 @@
 use glam::DVec3;
 
 use super::ContactParams;
-use super::carry::{Stance, StanceExit, pressed_at};
+use super::carry::{ExitReading, Stance, StanceExit, pressed_at};
 use super::flight::{Lifts, flights};
 use super::footing::{Candidate, Footing};
 use super::noise::smoothing_samples;
@@ -275,8 +275,9 @@ impl Grid {
     /// The hips' horizontal path (cm) on `footing` (every frame, `dt` s
     /// apart), from `start`: each frame's velocity the mean of the phases'.
     /// Pinned points hold still frame by frame; a coasting body keeps the
-    /// velocity of its phase's step, or, with `exit`, the velocity at the end
-    /// of the stance before it where that can be read (`carry.rs`).
+    /// velocity of its phase's step, with `exit` scaled by how much faster
+    /// the stances around end than that smoothed velocity reads them
+    /// (`carry.rs`).
     pub fn hips_path(
         &self,
         footing: &Footing,
@@ -300,7 +301,9 @@ impl Grid {
     }
 
     /// Per frame, the hips' horizontal velocity (cm/s) that `phase`'s
-    /// `choice` gives (see [`Grid::hips_path`]); zero in frame 0.
+    /// `choice` gives (see [`Grid::hips_path`]); zero in frame 0. With
+    /// `exit`, a coast's smoothed velocity is scaled by the shortfall of the
+    /// smoothing read off the stances around it (`carry.rs`).
     fn phase_velocities(
         &self,
         phase: usize,
@@ -314,9 +317,9 @@ impl Grid {
         let mut velocity = vec![DVec3::ZERO; n];
         let mut pressed = vec![DVec3::ZERO; n];
         let mut stance: Option<Stance> = None;
-        // The centre of mass's velocity the coast under way carries, where
-        // it was read from its stance.
-        let mut carried: Option<Option<DVec3>> = None;
+        let mut coasting = false;
+        let mut exits: Vec<ExitReading> = Vec::new();
+        let mut scaled: Vec<usize> = Vec::new();
         for f in 1..n {
             let g = self.step_at(phase, f);
             let candidate = solution.chosen[g];
@@ -326,18 +329,32 @@ impl Grid {
                 velocity[f] = pinned;
                 pressed[f] = point;
                 stance = Stance::of(candidate, f, stance);
-                carried = None;
+                coasting = false;
                 continue;
             }
-            let from_stance = *carried.get_or_insert_with(|| {
-                let (exit, stance) = (exit?, stance?);
-                exit.velocity(stance, f, &velocity, &pressed, &footing.lowest.standing_cm, dt)
-            });
+            velocity[f] = solution.hips_velocity[g];
+            let Some(exit) = exit else { continue };
+            if !coasting
+                && let Some(stance) = stance
+                && let Some(com) =
+                    exit.velocity(stance, f, &velocity, &pressed, &footing.lowest.standing_cm, dt)
+            {
+                exits.push(ExitReading {
+                    frame: f,
+                    read: exit.hips_velocity(com, f, dt),
+                    smoothed: velocity[f],
+                });
+            }
+            if !exit.in_place[f] {
+                scaled.push(f);
+            }
             stance = None;
-            velocity[f] = match (from_stance, exit) {
-                (Some(com), Some(exit)) => exit.hips_velocity(com, f, dt),
-                _ => solution.hips_velocity[g],
-            };
+            coasting = true;
+        }
+        if let Some(exit) = exit {
+            for f in scaled {
+                velocity[f] *= exit.shortfall_at(f, &exits);
+            }
         }
         velocity
     }

@@ -36,8 +36,8 @@
 //! progresses, a coast would carry that noise, not a momentum: coasting
 //! costs more there and the contacts are chosen a second time; and where
 //! it barely moves, its hips are held still against the noise (`still.rs`).
-//! Elsewhere a noisy pose's coast carries the velocity its stance ends with,
-//! read from the stance itself, not from the smoothing (`carry.rs`).
+//! Elsewhere a noisy pose's coast carries its smoothed velocity scaled by
+//! how much faster the stances around it end, read unsmoothed (`carry.rs`).
 //!
 //! Everything is in seconds and centimetres ([`ContactParams`]), and the
 //! costs are integrals over time. The contacts are chosen on frames about
@@ -183,13 +183,14 @@ pub fn contact_translation(
     // clean pose's pinned points are exact: smoothed, its feet would slide.)
     let noisy = pose_noise.reads_noise;
     let sigma_samples = if noisy { grid.sigma_samples } else { grid.noise_sigma_samples };
-    // A noisy pose's coasts carry the velocity their stance ends with
-    // (`carry.rs`).
-    let exit = (noisy && params.carry_stance_velocity).then(|| StanceExit {
+    // A noisy pose's coasts carry the smoothed velocity by as much as the
+    // stances around end faster than it (`carry.rs`).
+    let exit = noisy.then(|| StanceExit {
         hips_to_com_cm: &motion.hips_to_com_cm,
         in_place: &in_place,
         min_stance_frames: (params.min_carried_stance_s * fps).round() as usize,
         min_com_height_cm: params.min_com_height_cm,
+        window_frames: params.carry_window_s * fps,
     });
     let path = smooth_paths(
         &grid.hips_path(&footing, &choices, horizontal(poses.at(0, hips)), dt, exit.as_ref()),

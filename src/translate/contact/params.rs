@@ -61,19 +61,17 @@ pub struct ContactParams {
     /// easiest walk's cadence, so the hips' sway over each foot cancels and
     /// the strides' progress remains.
     pub in_place_window_s: f64,
-    /// Whether a noisy pose's coasts carry the velocity their stance ends
-    /// with (`carry.rs`) rather than the smoothed choice's. The stance's own
-    /// velocity is not biased (the suit-grade runs keep their strides), but
-    /// its error changes from one stance to the next, where the smoothed
-    /// one runs slow by much the same share stride after stride. The camera
-    /// tracker's inertial prediction turns it off (`track::suit_motion`): it
-    /// learns a steady stride error from what the camera sees, and cannot
-    /// learn one that changes every stance.
-    pub carry_stance_velocity: bool,
-    /// The shortest stance (s) whose own velocity a coast after it carries,
-    /// on a noisy pose (`carry.rs`): a sprinter's contact, 0.1 s; shorter,
-    /// its mean is mostly the landing's and the take-off's noise.
+    /// The shortest stance (s) whose own velocity is read against the
+    /// smoothed one, on a noisy pose (`carry.rs`): a sprinter's contact,
+    /// 0.1 s; shorter, its mean is mostly the landing's and the take-off's
+    /// noise.
     pub min_carried_stance_s: f64,
+    /// How far either side of a coast (s, a Gaussian's deviation) the
+    /// stances' readings set by how much its smoothed velocity falls short
+    /// (`carry.rs`): about two steps either side at an easy walk's cadence,
+    /// so a stride's stances average their noise and a change of gait is
+    /// followed within a second. (0.5 and 2 s measure the same.)
+    pub carry_window_s: f64,
     /// The longest a body can coast (s): the time in the air of a standing
     /// jump 30 cm high. Without a limit one wrong velocity would be carried
     /// across a whole recording.
@@ -174,6 +172,7 @@ impl ContactParams {
             ("max_noise_smoothing_s", self.max_noise_smoothing_s, not_negative),
             ("noise_window_s", self.noise_window_s, positive),
             ("in_place_window_s", self.in_place_window_s, positive),
+            ("carry_window_s", self.carry_window_s, positive),
             ("still_noise_share", self.still_noise_share, positive),
             ("max_still_smoothing_s", self.max_still_smoothing_s, not_negative),
             ("lift_cm", self.lift_cm, not_negative),
@@ -204,6 +203,7 @@ impl ContactParams {
             ("max_still_smoothing_s", self.max_still_smoothing_s),
             ("in_place_window_s", self.in_place_window_s),
             ("min_carried_stance_s", self.min_carried_stance_s),
+            ("carry_window_s", self.carry_window_s),
         ] {
             if value > MAX_TIME_SCALE_S {
                 return Err(format!(
@@ -228,8 +228,8 @@ impl Default for ContactParams {
             in_place_coast_cost_per_s: 480.0,
             in_place_froude: 1.0 / 16.0,
             in_place_window_s: 1.0,
-            carry_stance_velocity: true,
             min_carried_stance_s: 0.1,
+            carry_window_s: 1.0,
             max_coast_s: 0.5,
             jitter_s: 0.03,
             com_prior_cm: 100.0,
