@@ -344,14 +344,19 @@ test("20 players mount and destroy, leaving no animation loop, observer or liste
   await page.close();
 });
 
+/** Drops the open recording, as a file named `name`, on `selector`. */
+const dropRecording = (page, selector, name) => page.evaluate(([selector, name]) => {
+  const handle = document.querySelector("#app").embusen;
+  const data = new DataTransfer();
+  data.items.add(new File([handle.player.export_recording().text], name));
+  document.querySelector(selector).dispatchEvent(new DragEvent("drop", { bubbles: true, cancelable: true, dataTransfer: data }));
+}, [selector, name]);
+const openedName = (page, name) =>
+  page.waitForFunction((name) => document.querySelector("#app").embusen.player.info().name === name, name);
+
 test("a file dropped on a player opens once, and once when dropped beside it", async () => {
   const { page, errors } = await openApp(browser, server.url, "/?autoplay=0");
-  const drop = (selector, name) => page.evaluate(([selector, name]) => {
-    const handle = document.querySelector("#app").embusen;
-    const data = new DataTransfer();
-    data.items.add(new File([handle.player.export_recording().text], name));
-    document.querySelector(selector).dispatchEvent(new DragEvent("drop", { bubbles: true, cancelable: true, dataTransfer: data }));
-  }, [selector, name]);
+  const drop = (selector, name) => dropRecording(page, selector, name);
   // Count the player's loads.
   await page.evaluate(() => {
     const player = document.querySelector("#app").embusen.player;
@@ -363,13 +368,34 @@ test("a file dropped on a player opens once, and once when dropped beside it", a
     };
   });
   await drop("#app canvas.view", "dropped.bvh");
-  await page.waitForFunction(() => document.querySelector("#app").embusen.player.info().name === "dropped.bvh");
+  await openedName(page, "dropped.bvh");
   await waitReady(page);
   await drop("header h1", "beside.bvh");
-  await page.waitForFunction(() => document.querySelector("#app").embusen.player.info().name === "beside.bvh");
+  await openedName(page, "beside.bvh");
   await waitReady(page);
   await page.waitForTimeout(300);
   assert.deepEqual(await page.evaluate(() => window.loads), ["dropped.bvh", "beside.bvh"]);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test("a file dropped beside the player before the camera panel is up opens when it is", async () => {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(String(e)));
+  // The camera panel's code held back until the file has been dropped.
+  let release = () => {};
+  const held = new Promise((resolve) => (release = resolve));
+  await page.route("**/camera.js", async (route) => {
+    await held;
+    await route.continue();
+  });
+  await page.goto(server.url + "/?autoplay=0");
+  await waitReady(page);
+  assert.equal(await page.evaluate(() => document.querySelector("#camera-panel").childElementCount), 0, "the panel is not up");
+  await dropRecording(page, "header h1", "early.bvh");
+  release();
+  await openedName(page, "early.bvh");
   assert.deepEqual(errors, []);
   await page.close();
 });
