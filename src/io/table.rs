@@ -343,13 +343,11 @@ impl Table {
     /// times do not strictly increase.
     pub fn frame_time_s(&self) -> Option<f64> {
         let time = self.column("Time")?;
-        let mut steps: Vec<f64> = time.windows(2).map(|w| w[1] - w[0]).collect();
+        let steps: Vec<f64> = time.windows(2).map(|w| w[1] - w[0]).collect();
         if steps.is_empty() || steps.iter().any(|&d| d.is_nan() || d <= 0.0) {
             return None;
         }
-        steps.sort_by(f64::total_cmp);
-        let mid = steps.len() / 2;
-        Some(if steps.len() % 2 == 1 { steps[mid] } else { 0.5 * (steps[mid - 1] + steps[mid]) })
+        Some(crate::signal::stats::median(&steps))
     }
 
     /// Global positions of the joints in `joint_names`, in that order.
