@@ -430,7 +430,8 @@ mod tests {
             let heel = DVec3::new(-10.0, toe_y, -0.4 * toe_ahead);
             let rotate = |p: DVec3| {
                 let d = p - heel;
-                heel + DVec3::new(d.x, d.y * a.cos() + d.z * a.sin(), -d.y * a.sin() + d.z * a.cos())
+                let (sin, cos) = libm::sincos(a);
+                heel + DVec3::new(d.x, d.y * cos + d.z * sin, -d.y * sin + d.z * cos)
             };
             positions_cm.extend([
                 DVec3::new(0.0, 90.0, 0.0),
@@ -479,10 +480,11 @@ mod tests {
             // heel-up about it.
             let toe = DVec3::new(-10.0, depth, 14.0 + depth * a);
             let ankle_from_toe = DVec3::new(0.0, 6.0, -14.0);
+            let (sin, cos) = libm::sincos(a);
             let pitched = DVec3::new(
                 0.0,
-                ankle_from_toe.y * a.cos() - ankle_from_toe.z * a.sin(),
-                ankle_from_toe.y * a.sin() + ankle_from_toe.z * a.cos(),
+                ankle_from_toe.y * cos - ankle_from_toe.z * sin,
+                ankle_from_toe.y * sin + ankle_from_toe.z * cos,
             );
             positions_cm.extend([
                 DVec3::new(0.0, 90.0, 0.0),

@@ -296,7 +296,8 @@ impl Key {
     /// Each ankle's position on the floor, as (x, z).
     fn feet_cm(&self) -> PerFoot<DVec2> {
         let yaw = self.heading_deg.to_radians();
-        let (left, forward) = (DVec2::new(yaw.cos(), -yaw.sin()), DVec2::new(yaw.sin(), yaw.cos()));
+        let (sin, cos) = libm::sincos(yaw);
+        let (left, forward) = (DVec2::new(cos, -sin), DVec2::new(sin, cos));
         self.stance.feet_cm().map(|o| self.center_cm + o.x * left + o.y * forward)
     }
 }

@@ -20,7 +20,7 @@ pub(super) fn nice_ticks(lo: f64, hi: f64, max_count: usize) -> (Vec<f64>, f64) 
     }
     // No step below span / max_count can do; try the nice steps upwards from
     // there (a step of span / (max_count - 1) always does, so few are tried).
-    let mut magnitude = 10f64.powf((span / max_count as f64).log10().floor());
+    let mut magnitude = libm::pow(10.0, libm::log10(span / max_count as f64).floor());
     for _ in 0..4 {
         for step in [1.0, 2.0, 5.0].map(|m| m * magnitude) {
             match multiples(lo, hi, step, max_count) {
@@ -50,7 +50,7 @@ pub(super) fn multiples(lo: f64, hi: f64, step: f64, max_count: usize) -> Option
 
 /// `value` written with as many decimals as `step` needs, and never as "-0".
 pub(super) fn tick_label(value: f64, step: f64) -> String {
-    let decimals = (-step.log10() - 1e-9).ceil().clamp(0.0, 12.0) as usize;
+    let decimals = (-libm::log10(step) - 1e-9).ceil().clamp(0.0, 12.0) as usize;
     let value = if value.abs() < step * 1e-6 { 0.0 } else { value };
     format!("{value:.decimals$}")
 }

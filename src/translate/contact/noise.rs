@@ -186,7 +186,7 @@ pub fn smoothing_samples(noise_cm: f64, dt: f64, velocity_noise_cm_per_s: f64) -
         return 0.0;
     }
     let ratio = noise_cm / dt / velocity_noise_cm_per_s;
-    (ratio * ratio / (4.0 * std::f64::consts::PI.sqrt())).cbrt()
+    libm::cbrt(ratio * ratio / (4.0 * std::f64::consts::PI.sqrt()))
 }
 
 #[cfg(test)]
