@@ -8,7 +8,9 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use common::Scratch;
+
+use std::path::Path;
 use std::process::{Command, Output};
 
 use embusen::camera::Camera;
@@ -23,13 +25,6 @@ const SCENES: [&str; 7] = ["walk", "walk_turns", "run", "slash", "walk_toward", 
 
 fn embusen(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_embusen")).args(args).output().expect("runs embusen")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("embusen-calibrate-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 fn text(bytes: &[u8]) -> String {
@@ -57,7 +52,7 @@ fn corners_found(stdout: &str) -> usize {
 fn each_shared_board_gives_the_true_camera() {
     let Some(dir) = common::data_dir() else { return };
     let dir = dir.join("optical");
-    let out = scratch("pose");
+    let out = Scratch::new("pose");
     eprintln!("scene       corners  centre off (cm)  rotation off (°)  focal, one still (%)");
     for scene in SCENES {
         let still = dir.join(format!("{scene}.board.png"));
@@ -100,7 +95,6 @@ fn each_shared_board_gives_the_true_camera() {
         assert!(rotation_deg < 0.3, "{scene}: rotation {rotation_deg}° off");
         assert!(focal_pct.abs() < 3.0, "{scene}: focal {focal_pct} % off");
     }
-    let _ = std::fs::remove_dir_all(&out);
 }
 
 #[test]
@@ -128,7 +122,7 @@ const BOARD_JSON: &str = r#"{"dictionary": "DICT_4X4_50", "squares_x": 7, "squar
 
 #[test]
 fn bad_input_is_a_clear_message() {
-    let dir = scratch("bad");
+    let dir = Scratch::new("bad");
     let out = dir.join("camera.json");
     let fails = |args: &[&str]| {
         let run = embusen(args);
@@ -177,7 +171,6 @@ fn bad_input_is_a_clear_message() {
         o,
     ]);
     assert!(e.contains("marker_cm"), "{e}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// `embusen calibrate --floor-corners`, by hand: the board's outline (210 ×
@@ -188,7 +181,7 @@ fn bad_input_is_a_clear_message() {
 #[test]
 fn four_floor_corners_give_the_camera_by_hand() {
     let Some(data) = common::data_dir() else { return };
-    let dir = scratch("by-hand");
+    let dir = Scratch::new("by-hand");
     for scene in &SCENES[..4] {
         let path = data.join("optical").join(format!("{scene}.camera.json"));
         let truth = Camera::from_json(&std::fs::read_to_string(&path).unwrap(), scene).unwrap();
@@ -241,7 +234,7 @@ fn four_floor_corners_give_the_camera_by_hand() {
 fn a_lens_of_another_size_is_refused_by_calibrate_and_track() {
     let Some(data) = common::data_dir() else { return };
     let optical = data.join("optical");
-    let dir = scratch("other-size");
+    let dir = Scratch::new("other-size");
     let mut lens: Value =
         serde_json::from_str(&std::fs::read_to_string(optical.join("walk.camera.json")).unwrap()).unwrap();
     lens["image_size"]["width"] = 320.into();
@@ -272,5 +265,4 @@ fn a_lens_of_another_size_is_refused_by_calibrate_and_track() {
     ]);
     assert!(!run.status.success() && !tracked.exists());
     assert_eq!(text(&run.stderr), expected);
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -6,6 +6,8 @@
 
 mod common;
 
+use common::Scratch;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -17,14 +19,6 @@ fn embusen(args: &[&str]) -> Output {
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
-}
-
-/// A fresh scratch directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("embusen-test-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
 }
 
 /// The shared BVHs (each folder must have some) and the Heian Shodan tables.
@@ -85,7 +79,7 @@ fn every_shared_file_translates() {
     let Some(dir) = common::data_dir() else {
         return;
     };
-    let out_dir = scratch("all");
+    let out_dir = Scratch::new("all");
     let inputs = shared_recordings(&dir);
     let mut args = vec!["translate".to_string()];
     args.extend(inputs.iter().map(|p| p.display().to_string()));
@@ -108,7 +102,6 @@ fn every_shared_file_translates() {
         "{summary}"
     );
     assert!(summary.lines().any(|l| l.contains("heian_nidan.bvh") && l.contains("kinematics")), "{summary}");
-    let _ = std::fs::remove_dir_all(out_dir);
 }
 
 /// Corrupted copies of a real file: each gives one `error: file:line:column:`
@@ -118,7 +111,7 @@ fn corrupted_files_give_one_clear_error_each() {
     let Some(dir) = common::data_dir() else {
         return;
     };
-    let work = scratch("corrupt");
+    let work = Scratch::new("corrupt");
     let original = std::fs::read_to_string(dir.join("karate/empi_right.bvh")).unwrap();
     let motion = original.find("MOTION").unwrap();
     let first_row = original[motion..].find("\n\n").unwrap() + motion + 2;
@@ -156,7 +149,6 @@ fn corrupted_files_give_one_clear_error_each() {
             }
         }
     }
-    let _ = std::fs::remove_dir_all(work);
 }
 
 #[test]
@@ -164,7 +156,7 @@ fn one_bad_file_does_not_stop_the_others() {
     let Some(dir) = common::data_dir() else {
         return;
     };
-    let work = scratch("mixed");
+    let work = Scratch::new("mixed");
     let bad = work.join("bad.bvh");
     std::fs::write(&bad, "HIERARCHY\nROOT Hips\n{\n").unwrap();
     let good = dir.join("karate/mae_geri_left.bvh");
@@ -173,7 +165,6 @@ fn one_bad_file_does_not_stop_the_others() {
     assert_eq!(out.status.code(), Some(1));
     assert!(work.join("mae_geri_left.embusen.bvh").exists());
     assert!(text(&out.stderr).contains("1 of 2 files failed"), "{}", text(&out.stderr));
-    let _ = std::fs::remove_dir_all(work);
 }
 
 /// A suit file finds its truth in `../groundtruth/` from its folder, or in
@@ -193,7 +184,7 @@ fn eval_pairs_suit_files_with_their_truth() {
     assert!(stdout.contains("contact beats paper on mean error in"), "{stdout}");
 
     // Elsewhere, the truth is not found unless named.
-    let scratch = scratch("suit-truth");
+    let scratch = Scratch::new("suit-truth");
     let copy = scratch.join("x_walk_y_001.suit-l0.5-s9.bvh");
     std::fs::copy(&suit, &copy).unwrap();
     let out = embusen(&["eval", copy.to_str().unwrap(), suit.to_str().unwrap()]);

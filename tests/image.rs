@@ -126,20 +126,14 @@ fn the_stage_times_in_the_browser() {
 mod native {
     use std::path::{Path, PathBuf};
 
+    use crate::common::Scratch;
+
     use embusen::camera::Camera;
     use embusen::image::pipeline::{PipelineParams, features};
     use embusen::image::{GreyImage, background};
     use embusen::io::image_file::{ImageSequence, open_png_grey, png_to_grey};
     use embusen::io::video::{Ffmpeg, sample_frames};
     use glam::{DVec2, DVec3};
-
-    /// A fresh scratch folder under the target directory.
-    fn scratch(name: &str) -> PathBuf {
-        let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
-    }
 
     fn png_bytes(image: &GreyImage) -> Vec<u8> {
         let mut bytes = Vec::new();
@@ -172,7 +166,7 @@ mod native {
 
     #[test]
     fn an_image_sequence_is_its_pngs_in_name_order() {
-        let dir = scratch("sequence");
+        let dir = Scratch::new("sequence");
         let frames: Vec<GreyImage> = (0..3u8).map(|i| GreyImage::filled(5, 4, 10 * i)).collect();
         // Written out of order, with a file that is not a frame.
         for (i, name) in [(2, "f10.png"), (0, "f08.png"), (1, "f09.PNG")] {
@@ -193,7 +187,7 @@ mod native {
         );
         assert!(ImageSequence::open(&dir, 0.0).is_err());
         assert!(
-            ImageSequence::open(&scratch("empty_sequence"), 30.0)
+            ImageSequence::open(&Scratch::new("empty_sequence"), 30.0)
                 .unwrap_err()
                 .to_string()
                 .contains("no .png")
@@ -208,7 +202,7 @@ mod native {
     fn grey_from_a_luma_plane_is_ffmpegs_grey_for_every_level() {
         let (w, h) = (256usize, 2usize);
         let luma: Vec<u8> = (0..w * h).map(|i| (i % w) as u8).collect();
-        let dir = scratch("luma");
+        let dir = Scratch::new("luma");
         for (range, full) in [("LIMITED", false), ("FULL", true)] {
             // YUV4MPEG2: a header, then each frame's planes (4:2:0).
             let mut y4m =
@@ -248,7 +242,7 @@ mod native {
 
     #[test]
     fn what_is_not_a_video_is_an_error_naming_the_file() {
-        let dir = scratch("not_video");
+        let dir = Scratch::new("not_video");
         let text = dir.join("notes.mp4");
         std::fs::write(&text, "these are words, not frames\n").unwrap();
         let e = Ffmpeg::default().open(&text).err().unwrap().to_string();

@@ -7,6 +7,7 @@
 
 mod common;
 
+use common::Scratch;
 use common::filmed::{film, mean_error_cm, run, setup, track};
 use embusen::camera::ImageSize;
 use embusen::image::GreyImage;
@@ -170,12 +171,6 @@ fn embusen(args: &[&std::ffi::OsStr]) -> std::process::Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_embusen")).args(args).output().expect("runs embusen")
 }
 
-fn scratch_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("embusen-track-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 /// `embusen track VIDEO --bvh BVH --camera CAMERA [--background BG] -o OUT`.
 fn track_cli(
     video: &Path,
@@ -220,7 +215,7 @@ fn track_cli_with(
 fn track_writes_a_bvh_and_a_row_per_frame_and_refuses_bad_input() {
     let Some(data) = common::data_dir() else { return };
     let scene = data.join("optical");
-    let dir = scratch_dir("cli");
+    let dir = Scratch::new("cli");
     let out = dir.join("walk.tracked.bvh");
     let path = |s: &str| scene.join(format!("walk{s}"));
     let (video, bvh, camera, background) =
@@ -262,7 +257,6 @@ fn track_writes_a_bvh_and_a_row_per_frame_and_refuses_bad_input() {
     // An output folder that is not there, said before tracking.
     let nowhere = dir.join("no such folder").join("walk.bvh");
     refused(track_cli(&video, &bvh, &camera, Some(&background), &nowhere), "does not exist");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// `app::tracking::TrackingJob` on a video whose frames come as luma planes
@@ -372,7 +366,7 @@ fn app_tracks(video: &Path, bvh: &Path, camera: &Path, background: &Path) -> (St
 fn a_grey_video_is_tracked_as_its_colour_one() {
     let Some(data) = common::data_dir() else { return };
     let scene = data.join("optical");
-    let dir = scratch_dir("grey");
+    let dir = Scratch::new("grey");
     let path = |s: &str| scene.join(format!("slash{s}"));
     let grey = dir.join("slash.grey.mp4");
     let made = std::process::Command::new("ffmpeg")

@@ -3,7 +3,7 @@
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { execFileSync } from "node:child_process";
-import { mkdirSync, readFileSync, readdirSync, writeFileSync, mkdtempSync } from "node:fs";
+import { mkdirSync, readFileSync, readdirSync, writeFileSync, mkdtempSync, rmSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { gzipSync } from "node:zlib";
@@ -13,6 +13,8 @@ import {
 
 let server;
 let browser;
+/** The files the tests write, removed when they are done. */
+const scratch = mkdtempSync(join(tmpdir(), "embusen-app-"));
 const TWO_PLAYERS = `<!doctype html><html><head><link rel="stylesheet" href="/style.css"></head><body>
   <div id="a" style="height:380px"></div><div id="b" style="height:380px"></div>
   <script type="module">
@@ -47,6 +49,7 @@ before(async () => {
 after(async () => {
   await browser?.close();
   await server?.close();
+  rmSync(scratch, { recursive: true, force: true });
 });
 
 const frameOf = (page, sel = "#app") => page.evaluate((s) => document.querySelector(s).embusen.player.frame(), sel);
@@ -137,7 +140,7 @@ test("heian_nidan.bvh opens through the file input and exports what the CLI writ
   await page.evaluate(() => document.querySelector("#app").embusen.player.draw());
   assert.ok((await countDrawnPixels(page, "#app canvas.view")) > 500);
   // Export with non-default settings, and compare with the CLI's output for the same.
-  const dir = mkdtempSync(join(tmpdir(), "embusen-"));
+  const dir = scratch;
   const exportMatchesCli = async (name, cliArgs) => {
     const [download] = await Promise.all([page.waitForEvent("download"), page.click("#app [data-action=export-recording]")]);
     assert.equal(download.suggestedFilename(), "heian_nidan.embusen.bvh");
@@ -165,7 +168,7 @@ test("heian_nidan.bvh opens through the file input and exports what the CLI writ
 
 test("a corrupted file shows its error and the open recording stays", async () => {
   const { page } = await openApp(browser, server.url, "/?autoplay=0");
-  const dir = mkdtempSync(join(tmpdir(), "embusen-"));
+  const dir = scratch;
   const bad = join(dir, "broken.bvh");
   writeFileSync(bad, "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Xposition Yposition Zposition\n}\nMOTION\nFrames: 1\nFrame Time: 0.01\n1 2 x\n");
   await page.keyboard.press("End");

@@ -9,6 +9,40 @@ pub mod optical;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// A directory of one test's own under the system's temporary directory
+/// (named after the process and `name`, so parallel tests and runs do not
+/// meet), emptied when made and removed when the test ends, but kept when
+/// it fails, to look at. Derefs to its path.
+#[cfg(not(target_arch = "wasm32"))]
+pub struct Scratch(PathBuf);
+
+#[cfg(not(target_arch = "wasm32"))]
+impl Scratch {
+    pub fn new(name: &str) -> Scratch {
+        let dir = std::env::temp_dir().join(format!("embusen-test-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("a scratch directory");
+        Scratch(dir)
+    }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
 /// `../shared/data` beside the project, or `None` after printing
 /// `SKIPPED: <path> not found; <test> did not run` to stderr, `<test>` being
 /// the name of the calling test (libtest names each test's thread after it).
