@@ -70,7 +70,8 @@ pub struct ContactParams {
     /// stances' readings set by how much its smoothed velocity falls short
     /// (`carry.rs`): about two steps either side at an easy walk's cadence,
     /// so a stride's stances average their noise and a change of gait is
-    /// followed within a second. (0.5 and 2 s measure the same.)
+    /// followed within a second. (0.5 and 2 s move the shared medians by
+    /// at most 0.25 % of the path, docs/contact.md.)
     pub carry_window_s: f64,
     /// The longest a body can coast (s): the time in the air of a standing
     /// jump 30 cm high. Without a limit one wrong velocity would be carried
@@ -112,7 +113,7 @@ pub struct ContactParams {
     /// The tracking noise a foot's velocity may keep when the contacts are
     /// chosen (cm/s): half a `slip_cm_per_s`, so that noise alone never costs
     /// as much as one unit of velocity change. A pose whose measured noise
-    /// ([`super::noise`]) exceeds it is smoothed, over the least time that
+    /// (`super::noise`) exceeds it is smoothed, over the least time that
     /// brings it down to this; a clean optical pose is not smoothed at all.
     pub max_velocity_noise_cm_per_s: f64,
     /// The longest that smoothing may reach (s, the Gaussian's standard
