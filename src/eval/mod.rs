@@ -238,7 +238,7 @@ pub fn grounded_oracle_path(pinned: &[Option<DVec3>], truth: &Poses, hips: usize
 /// Per frame, the hips' floor step into it that the truth's contact decision
 /// gives on `suit` (see [`contacts_oracle_path`]); `None` in frame 0 and
 /// where the truth holds no foot joint slower than
-/// [`ORACLE_PINNED_MAX_CM_PER_S`]. Both oracles are built on these steps.
+/// `ORACLE_PINNED_MAX_CM_PER_S`. Both oracles are built on these steps.
 pub fn oracle_pinned_steps(
     suit: &Poses,
     truth: &Poses,

@@ -1,12 +1,12 @@
 //! The built-in demo recording: a synthetic biped stepping through a short
 //! kata, generated in code. It is the app's default recording, and its true
 //! motion is known, so it is generated physically consistently:
-//! 1. footsteps are planned on the floor ([`kata`]),
+//! 1. footsteps are planned on the floor (`kata`),
 //! 2. feet follow them: a planted foot is held exactly still (it may only pivot
-//!    about its ankle), a swinging foot travels on a lifted arc ([`plan_frames`]),
+//!    about its ankle), a swinging foot travels on a lifted arc (`plan_frames`),
 //! 3. the hips ride over the midpoint of the feet, as high as the legs allow
-//!    with bent knees, so lower in wide stances ([`hips_cm`]),
-//! 4. the legs are solved by analytic two-bone IK ([`leg_ik`]), so forward
+//!    with bent knees, so lower in wide stances (`hips_cm`),
+//! 4. the legs are solved by analytic two-bone IK (`leg_ik`), so forward
 //!    kinematics of the channels puts every planted ankle back where it was
 //!    planted;
 //! 5. the true motion goes through an inertial suit's errors

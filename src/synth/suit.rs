@@ -96,7 +96,7 @@ fn clamped(rng: &mut XorShift64) -> f64 {
     rng.gaussian().clamp(-MAX_SIGMAS, MAX_SIGMAS)
 }
 
-/// A slow drift: a sum of [`DRIFT_SINES`] sines of random periods and
+/// A slow drift: a sum of `DRIFT_SINES` sines of random periods and
 /// phases whose root mean square, over times long against the periods, is
 /// the one asked for.
 #[derive(Clone, Debug)]

@@ -8,7 +8,7 @@
 //! points ahead of it to the convex hull of their images: the two ellipses
 //! and, between them, the quadrilateral of their two common tangents. Those
 //! tangents are the images of the two planes through the camera's centre
-//! that touch both spheres, found in closed form ([`bridges`]), so a cone
+//! that touch both spheres, found in closed form (`bridges`), so a cone
 //! costs four points, not a hull. Everything is computed in the *ideal*
 //! image (normalised, undistorted), where these facts hold exactly; each
 //! polygon is clipped there to the part of the plane the image can see, its

@@ -261,8 +261,8 @@ fn draw_stance_panel(
 
 /// Everything that does not move with the time cursor: titles, legends,
 /// axes with numbered ticks, grids, and the data of all five panels. Long
-/// series are decimated (see [`series_shapes`], [`path_shapes`] and
-/// [`draw_stance_bar`]), so the figure stays a few thousand points whatever
+/// series are decimated (see `series_shapes`, `path_shapes` and
+/// `draw_stance_bar`), so the figure stays a few thousand points whatever
 /// the recording's length; it is meant to be painted once per recording,
 /// settings or size and kept (e.g. in an offscreen canvas). Text is measured
 /// by `text`, as it was for `layout`.

@@ -10,7 +10,7 @@ const CHAR_WIDTH: f32 = 0.56;
 /// How wide a line of text in [`FONT_FAMILY`](super::FONT_FAMILY) is drawn.
 #[derive(Clone, Copy)]
 pub enum TextMeasure<'a> {
-    /// [`CHAR_WIDTH`] × the font size per character: the same everywhere, for
+    /// `CHAR_WIDTH` × the font size per character: the same everywhere, for
     /// native tests and wherever no canvas is at hand.
     Estimate,
     /// `width_px(text, size_px)` is the width in pixels of `text` at

@@ -100,7 +100,7 @@ pub struct ContactResult {
     /// corrected recording puts its lowest foot points.
     pub ground_cm: f64,
     /// The tracking noise measured on the pose (cm, per axis, of the feet
-    /// relative to the hips; see [`noise`]): what the choice of contacts was
+    /// relative to the hips; see `noise`): what the choice of contacts was
     /// smoothed for.
     pub pose_noise_cm: f64,
     /// The sole depth used (cm), as given or as estimated; `None` where it
