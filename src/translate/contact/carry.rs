@@ -101,13 +101,14 @@ impl StanceExit<'_> {
     /// `dt` s apart: `None` where it is too short, where the body is in
     /// place at `end`, or where the stance starts the take. `hips_velocity`
     /// holds, per frame, the hips' velocity its pinned point gives
-    /// (unsmoothed), `pressed` where it presses (relative to the hips).
+    /// (unsmoothed), `pressed` where it presses in a frame (relative to the
+    /// hips; [`pressed_at`]).
     pub fn velocity(
         &self,
         stance: Stance,
         end: usize,
         hips_velocity: &[DVec3],
-        pressed: &[DVec3],
+        pressed: impl Fn(usize) -> Option<DVec3>,
         standing_cm: &[f64],
         dt: f64,
     ) -> Option<DVec3> {
@@ -124,7 +125,8 @@ impl StanceExit<'_> {
         let mut pushed = DVec3::ZERO;
         let mut pushed_sum = DVec3::ZERO;
         for j in start..end - 1 {
-            let point = Some(PressureSegment { from: pressed[j], to: pressed[j] });
+            let at = pressed(j)?;
+            let point = Some(PressureSegment { from: at, to: at });
             pushed +=
                 FloorPush::new(h2c[j], standing_cm[j], dt, self.min_com_height_cm).range_from(point).start;
             pushed_sum += pushed;
@@ -197,7 +199,7 @@ mod tests {
         let hips_velocity = vec![DVec3::new(0.0, 0.0, 300.0); n];
         let pressed = vec![DVec3::new(0.0, -90.0, 0.0) - lean; n];
         let stance = Stance { start: 10, foot: Some(Foot::Left) };
-        exit.velocity(stance, 10 + frames, &hips_velocity, &pressed, &vec![90.0; n], DT)
+        exit.velocity(stance, 10 + frames, &hips_velocity, |j| Some(pressed[j]), &vec![90.0; n], DT)
     }
 
     #[test]

@@ -315,29 +315,24 @@ impl Grid {
         let n = footing.frame_count();
         let solution = &choice.solution;
         let mut velocity = vec![DVec3::ZERO; n];
-        let mut pressed = vec![DVec3::ZERO; n];
         let mut stance: Option<Stance> = None;
-        let mut coasting = false;
         let mut exits: Vec<ExitReading> = Vec::new();
         let mut scaled: Vec<usize> = Vec::new();
+        let pressed = |f: usize| pressed_at(footing, solution.chosen[self.step_at(phase, f)], f);
         for f in 1..n {
             let g = self.step_at(phase, f);
             let candidate = solution.chosen[g];
-            if let (Some(pinned), Some(point)) =
-                (footing.hips_velocity(candidate, f, dt), pressed_at(footing, candidate, f))
-            {
+            if let Some(pinned) = footing.hips_velocity(candidate, f, dt) {
                 velocity[f] = pinned;
-                pressed[f] = point;
                 stance = Stance::of(candidate, f, stance);
-                coasting = false;
                 continue;
             }
             velocity[f] = solution.hips_velocity[g];
             let Some(exit) = exit else { continue };
-            if !coasting
-                && let Some(stance) = stance
+            // The stance is read on the first frame of the coast after it.
+            if let Some(stance) = stance.take()
                 && let Some(com) =
-                    exit.velocity(stance, f, &velocity, &pressed, &footing.lowest.standing_cm, dt)
+                    exit.velocity(stance, f, &velocity, pressed, &footing.lowest.standing_cm, dt)
             {
                 exits.push(ExitReading {
                     frame: f,
@@ -348,8 +343,6 @@ impl Grid {
             if !exit.in_place[f] {
                 scaled.push(f);
             }
-            stance = None;
-            coasting = true;
         }
         if let Some(exit) = exit {
             for f in scaled {
