@@ -35,7 +35,9 @@
 //! optical pose is not smoothed. Where a noisy pose's body barely
 //! progresses, a coast would carry that noise, not a momentum: coasting
 //! costs more there and the contacts are chosen a second time; and where
-//! it barely moves, its hips are held still against the noise (`still.rs`).
+//! it barely moves, its hips are held still against the noise and, where
+//! both feet stand, against the legs' drift their distance apart reads
+//! (`still.rs`).
 //! Elsewhere a noisy pose's coast carries its smoothed velocity scaled by
 //! how much faster the stances around it end, read unsmoothed (`carry.rs`).
 //!
@@ -202,6 +204,9 @@ pub fn contact_translation(
     // standing body's path wanders with the noise over tenths of a second,
     // where noise correlated over a few frames is at its full size: the
     // reading on frames twice as far apart.
+    // Where both feet stand in place, their distance apart reads the legs'
+    // drift, which the fourth differences do not see.
+    let feet_apart = noisy.then(|| still::FeetApart::of(&footing, &in_place, params.touch_cm));
     let path = if noisy {
         still::hold_still(
             &path,
@@ -210,6 +215,7 @@ pub fn contact_translation(
             dt,
             params.still_noise_share,
             params.max_still_smoothing_s,
+            feet_apart.as_ref(),
         )
     } else {
         path
