@@ -206,7 +206,6 @@ pub fn contact_translation(
     // reading on frames twice as far apart.
     // Where both feet stand in place, their distance apart reads the legs'
     // drift, which the fourth differences do not see.
-    let feet_apart = noisy.then(|| still::FeetApart::of(&footing, &in_place, params.touch_cm));
     let path = if noisy {
         still::hold_still(
             &path,
@@ -215,7 +214,7 @@ pub fn contact_translation(
             dt,
             params.still_noise_share,
             params.max_still_smoothing_s,
-            feet_apart.as_ref(),
+            Some(&still::FeetApart::of(&footing, &in_place, params.touch_cm)),
         )
     } else {
         path

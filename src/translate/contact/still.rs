@@ -77,19 +77,19 @@ pub fn hold_still(
         .collect();
     let noise_left = noise_velocities(noise_cm, smoothed_samples, dt_s, &widths);
     // Where both feet stand in place: the legs' drift, where it is more.
-    let standing_left: Option<(Vec<f64>, &[bool])> = feet.map(|feet| {
+    let standing_noise_left: Option<(Vec<f64>, &[bool])> = feet.map(|feet| {
         let drift = feet.drift_velocities(smoothed_samples, &widths, dt_s);
         (noise_left.iter().zip(drift).map(|(v, d)| v.max(d)).collect(), &feet.both_down[..])
     });
     let chosen: Vec<f64> = (0..n)
         .map(|f| {
-            let left = match &standing_left {
-                Some((left, both_down)) if both_down[f] => left,
+            let noise_left_here = match &standing_noise_left {
+                Some((standing, both_down)) if both_down[f] => standing,
                 _ => &noise_left,
             };
             widths
                 .iter()
-                .zip(left)
+                .zip(noise_left_here)
                 .find(|&(&s, &v)| v <= noise_share * speed_cm_per_s(path, f, s, dt_s))
                 .map_or(widths[widths.len() - 1], |(&s, _)| s)
         })
@@ -131,7 +131,7 @@ impl<'a> FeetApart<'a> {
 
     /// Per width of `widths` (samples, on top of `smoothed_samples`, as in
     /// [`hold_still`]), one leg's drift (cm/s): over the frames whose reach
-    /// (two of the whole smoothing's widths either side) has both feet
+    /// ([`reach_frames`] of the whole smoothing's width) has both feet
     /// down throughout, the median of the slowest that
     /// any point of one sole and any of the other move apart over it, over
     /// √2 (two legs drift, each its own way). Never rising with the width;
@@ -153,7 +153,7 @@ impl<'a> FeetApart<'a> {
             .iter()
             .map(|&extra| {
                 let sigma = (extra * extra + smoothed_samples * smoothed_samples).sqrt();
-                let reach = ((2.0 * sigma).round() as usize).max(1);
+                let reach = reach_frames(sigma);
                 let moved = |sole: &Sole, f: usize, k: usize| {
                     horizontal(sole.at(f + reach, k) - sole.at(f - reach, k))
                 };
@@ -211,9 +211,15 @@ fn noise_velocities(noise_cm: f64, smoothed_samples: f64, dt_s: f64, widths: &[f
 /// `sigma` samples (two widths either side, at least one frame; cut at the
 /// ends): the distance between the reach's ends over its time.
 fn speed_cm_per_s(path: &[DVec3], f: usize, sigma: f64, dt_s: f64) -> f64 {
-    let reach = ((2.0 * sigma).round() as usize).max(1);
+    let reach = reach_frames(sigma);
     let (first, last) = (f.saturating_sub(reach), (f + reach).min(path.len() - 1));
     (path[last] - path[first]).length() / ((last - first) as f64 * dt_s)
+}
+
+/// How far (frames) a Gaussian of `sigma` samples reaches either side, as
+/// the hold reads speeds over it: two widths, at least one frame.
+fn reach_frames(sigma: f64) -> usize {
+    ((2.0 * sigma).round() as usize).max(1)
 }
 
 /// Frame `f` of `path` smoothed by a Gaussian of `sigma` samples (see
