@@ -18,6 +18,10 @@
 //! the seeds 1, 2, 3… draw as unlike suits as any. One seed's levels are one
 //! draw: level 0.5 of seed 3 has exactly half of each error of level 1 of
 //! seed 3, so levels compare pair by pair.
+//!
+//! The errors' sizes are by default the ones the shared suit files measure
+//! (`ErrorSizes::MEASURED`); `--sizes described` gives the README's words'
+//! (`ErrorSizes::DESCRIBED`), the files this example wrote before 2026-12-05.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -28,7 +32,7 @@ use embusen::error::Error;
 use embusen::io::bvh::{Bvh, ReadOptions};
 use embusen::io::recording::bvh_stem;
 use embusen::synth::rng::mixed_state;
-use embusen::synth::suit::{self, SuitBody};
+use embusen::synth::suit::{self, ErrorSizes, SuitBody};
 
 #[derive(Parser)]
 #[command(about = "Writes suit-grade versions of ground-truth BVHs (the inertial-suit error model).")]
@@ -40,6 +44,10 @@ struct Args {
     /// Seeds: whole numbers and ranges, comma-separated (`3-12`, `1,4,9-11`).
     #[arg(long)]
     seeds: String,
+    /// The errors' sizes: `measured` (on the shared suit files) or
+    /// `described` (by their README).
+    #[arg(long, default_value = "measured", value_parser = ["measured", "described"])]
+    sizes: String,
     /// Frame rate for files whose `Frame Time` is 0.
     #[arg(long)]
     fps: Option<f64>,
@@ -132,10 +140,11 @@ fn grade(args: &Args, input: &Path, levels: &[f64], seeds: &[u64]) -> Result<usi
             channels.join(" ")
         );
     }
+    let sizes = if args.sizes == "described" { &ErrorSizes::DESCRIBED } else { &ErrorSizes::MEASURED };
     let mut ratios: Vec<f64> = Vec::new();
     for &level in levels {
         for &seed in seeds {
-            let graded = suit::apply(skeleton, &truth.motion, &body, draw_state(&stem, seed), level);
+            let graded = suit::apply(skeleton, &truth.motion, &body, sizes, draw_state(&stem, seed), level);
             let out_path = args.out_dir.join(format!("{stem}.suit-l{level}-s{seed}.bvh"));
             let text = Bvh { skeleton: graded.skeleton, motion: graded.motion, warnings: Vec::new() }.write();
             std::fs::write(&out_path, text)

@@ -14,13 +14,13 @@
 //!   [`HEADING_DRIFT_PERIODS_S`]);
 //! - `drift(j, t)`: each sensor's own smaller drift and tilt, about all three
 //!   axes ([`SEGMENT_DRIFT_DEG`], periods of [`SEGMENT_DRIFT_PERIODS_S`]);
-//! - `noise(j, t)`: orientation noise, white from frame to frame, whose
-//!   deviation grows with the segment's angular speed ([`noise_deviation_deg`]:
-//!   2° at 2 rad/s): fusion trusts the gyros least when they turn fastest;
-//! - `lag`: the fusion filter answers [`FUSION_LAG_S`] late;
+//! - `noise(j, t)`: orientation noise whose deviation grows with the
+//!   segment's angular speed ([`ErrorSizes::noise_deviation_deg`]): fusion
+//!   trusts the gyros least when they turn fastest;
+//! - `lag`: the fusion filter answers late ([`ErrorSizes::fusion_lag_s`]);
 //! - bones: the vendor scales a template skeleton from the actor's height, so
 //!   every bone is off by the height's error ([`BODY_SCALE_DEVIATION`]) and
-//!   its own ([`BONE_SCALE_DEVIATION`]), left and right alike (`LeftLeg` and
+//!   its own ([`ErrorSizes::bone_scale_deviation`]), left and right alike (`LeftLeg` and
 //!   `RightLeg`, `UpperLeg_L` and `UpperLeg_R` are one bone), whether the
 //!   bone is an OFFSET or position channels (Bandai's);
 //! - translation: the vendor's guess of the hips' path
@@ -29,17 +29,10 @@
 //!   plus a horizontal random walk ([`VENDOR_WALK_CM_PER_SQRT_S`]).
 //!
 //! A level scales every one of these deviations, the lag too ([`apply`]).
-//! The suit's rotations are written in each joint's own channel order (any
-//! of the six of three axes). Joints without a sensor (toes: the karate
-//! suit's 17 sensors have none there) hold their usual bend, and what an
-//! exporter puts above the hips (Bandai's `joint_Root`) holds still: see
-//! `Part`. The demo's skeleton, the karate suit's, has neither: each foot
-//! is one segment, ankle to toe end site, with its own sensor.
+//! How large the noise, the lag and the bones' spread are at level 1 comes
+//! in two sizes ([`ErrorSizes`]): as the README's words put them, and as
+//! the shared suit files measure.
 //!
-//! Random draws are Gaussian, each clamped to ±[`MAX_SIGMAS`] deviations so
-//! that no seed gives an absurd suit. A seed's draws come in the same order
-//! whatever the skeleton's channels and whichever joints have sensors.
-
 use glam::{DMat3, DQuat, DVec3};
 
 use crate::body::feet::{FootJoints, above_hips, hips_joint};
@@ -60,16 +53,8 @@ pub const SEGMENT_DRIFT_DEG: f64 = 1.0;
 pub const SEGMENT_DRIFT_PERIODS_S: (f64, f64) = (2.0, 10.0);
 /// Sines summed in each drift (each of random period and phase).
 const DRIFT_SINES: usize = 4;
-/// Orientation noise per unit of angular speed, per axis.
-pub const NOISE_DEG_PER_RAD_PER_S: f64 = 1.0;
-/// Orientation noise of a segment at rest, per axis.
-pub const NOISE_FLOOR_DEG: f64 = 0.1;
-/// How late the fusion filter's orientation is.
-pub const FUSION_LAG_S: f64 = 0.03;
 /// Relative deviation of the actor's height as the vendor takes it.
 pub const BODY_SCALE_DEVIATION: f64 = 0.02;
-/// Relative deviation of each bone of the template from the actor's.
-pub const BONE_SCALE_DEVIATION: f64 = 0.02;
 /// The vendor's translation wanders by this much per √s, per horizontal
 /// axis (a random walk): about 50 cm over the demo's 24 s. The real karate
 /// suit's vendor translation misses its kata's closure by 3.7 m.
@@ -77,12 +62,80 @@ pub const VENDOR_WALK_CM_PER_SQRT_S: f64 = 10.0;
 /// Every Gaussian draw is clamped to this many deviations.
 pub const MAX_SIGMAS: f64 = 2.5;
 
-/// The per-axis deviation of the orientation noise of a segment turning at
-/// `angular_speed_rad_per_s`: the floor and the part that grows with the
-/// speed, added in quadrature.
-pub fn noise_deviation_deg(angular_speed_rad_per_s: f64) -> f64 {
-    let moving_deg = NOISE_DEG_PER_RAD_PER_S * angular_speed_rad_per_s;
-    libm::sqrt(NOISE_FLOOR_DEG * NOISE_FLOOR_DEG + moving_deg * moving_deg)
+/// How large a suit's noise, lag and bone errors are at level 1.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ErrorSizes {
+    /// Orientation noise per unit of angular speed, per axis (° per rad/s).
+    pub noise_deg_per_rad_per_s: f64,
+    /// Orientation noise of a segment at rest, per axis (°).
+    pub noise_floor_deg: f64,
+    /// The angular speed the noise grows with is the segment's mean over
+    /// this long before and after each frame (s); 0: the frame's own.
+    pub noise_speed_window_s: f64,
+    /// The noise's correlation time `τ` (s): a frame `dt` later keeps
+    /// `e^(−dt/τ)` of it; 0: white from frame to frame.
+    pub noise_correlation_s: f64,
+    /// How late the fusion filter's orientation is (s).
+    pub fusion_lag_s: f64,
+    /// Relative deviation of each bone of the template from the actor's.
+    pub bone_scale_deviation: f64,
+}
+
+impl ErrorSizes {
+    /// The sizes the README's words give: "about 2° at 2 rad/s" (per axis),
+    /// white, "tens of ms", "a few percent". The built-in demo's.
+    pub const DESCRIBED: ErrorSizes = ErrorSizes {
+        noise_deg_per_rad_per_s: 1.0,
+        noise_floor_deg: 0.1,
+        noise_speed_window_s: 0.0,
+        noise_correlation_s: 0.0,
+        fusion_lag_s: 0.03,
+        bone_scale_deviation: 0.02,
+    };
+
+    /// The sizes the shared suit files measure against their truths
+    /// (`examples/suit_stats.rs`, level 1): per axis, the noise left once
+    /// the lag and everything slower than ±0.5 s are taken out, binned by
+    /// the segment's angular speed, and its correlation one and two frames
+    /// apart. Of the seven shared motions (two seeds each), with these
+    /// sizes' figures for a third seed in brackets:
+    ///
+    /// | | below 1 rad/s | 1–2 | 2–4 | 4–8 | over 8 | one / two frames |
+    /// | --- | --- | --- | --- | --- | --- | --- |
+    /// | walk | 2.05° (2.03) | 3.17 (3.06) | 4.72 (4.43) | 7.16 (6.79) | 9.3 (9.2) | 0.61 / 0.36 (0.58 / 0.30) |
+    /// | run | 3.35 (2.65) | 4.79 (4.60) | 7.08 (6.42) | 9.32 (9.04) | 13.2 (12.0) | 0.60 / 0.34 (0.61 / 0.34) |
+    /// | bow | 0.78 (0.73) | 2.27 (2.23) | 4.42 (4.44) | 6.2 (7.1) | | 0.60 / 0.33 (0.62 / 0.39) |
+    /// | kick | 1.78 (1.69) | 3.74 (3.62) | 6.38 (6.34) | 10.2 (10.1) | 16.4 (15.7) | 0.60 / 0.30 (0.57 / 0.30) |
+    /// | dance | 2.12 (1.92) | 4.21 (3.88) | 5.95 (5.54) | 9.86 (9.14) | 17.4 (15.9) | 0.62 / 0.32 (0.59 / 0.32) |
+    ///
+    /// The noise is a filter's error, so it is not white (0.65 of it
+    /// carries to the next frame at 30 fps). A segment at rest is almost
+    /// still (the bow's feet 0.07°, as in the shared files), so the floor
+    /// is small, and a segment passing slowly through a fast motion is not,
+    /// which the speed window and the correlation give. The lag reads 7–27
+    /// ms (these sizes 6–21), the bones spread 2.8 % (0.019–0.041). The
+    /// README's sizes read half of this noise or less below 4 rad/s.
+    pub const MEASURED: ErrorSizes = ErrorSizes {
+        noise_deg_per_rad_per_s: 1.8,
+        noise_floor_deg: 0.09,
+        noise_speed_window_s: 0.13,
+        noise_correlation_s: 0.077,
+        fusion_lag_s: 0.02,
+        bone_scale_deviation: 0.028,
+    };
+
+    /// The per-axis deviation of the orientation noise of a segment turning
+    /// at `angular_speed_rad_per_s`: the floor and the part that grows with
+    /// the speed, added in quadrature.
+    pub fn noise_deviation_deg(&self, angular_speed_rad_per_s: f64) -> f64 {
+        let moving_deg = self.noise_deg_per_rad_per_s * angular_speed_rad_per_s;
+        libm::sqrt(self.noise_floor_deg * self.noise_floor_deg + moving_deg * moving_deg)
+    }
+
+    /// The share of a frame's noise the next frame keeps at `fps`.
+    fn noise_kept(&self, fps: f64) -> f64 {
+        if self.noise_correlation_s > 0.0 { libm::exp(-1.0 / (fps * self.noise_correlation_s)) } else { 0.0 }
+    }
 }
 
 /// A rotation error drawn as a rotation vector with `deviation_deg` per axis.
@@ -251,10 +304,10 @@ fn bone_key(skeleton: &Skeleton, joint: usize) -> String {
 }
 
 /// The template's scale of every joint's bone: one scale per bone (left and
-/// right alike) times one for the whole body, deviations `level` times the
-/// real suit's. Drawn for every joint, bone or not, in the joints' order, so
+/// right alike) times one for the whole body, deviations `level` times
+/// `sizes`'. Drawn for every joint, bone or not, in the joints' order, so
 /// that a seed draws the same numbers whatever the skeleton's bones are.
-fn bone_scales(skeleton: &Skeleton, rng: &mut XorShift64, level: f64) -> Vec<f64> {
+fn bone_scales(skeleton: &Skeleton, rng: &mut XorShift64, sizes: &ErrorSizes, level: f64) -> Vec<f64> {
     let body = 1.0 + BODY_SCALE_DEVIATION * level * clamped(rng);
     let mut scales: Vec<(String, f64)> = Vec::new();
     (0..skeleton.joint_count())
@@ -263,7 +316,7 @@ fn bone_scales(skeleton: &Skeleton, rng: &mut XorShift64, level: f64) -> Vec<f64
             match scales.iter().find(|(k, _)| *k == key) {
                 Some(&(_, s)) => s,
                 None => {
-                    let s = body * (1.0 + BONE_SCALE_DEVIATION * level * clamped(rng));
+                    let s = body * (1.0 + sizes.bone_scale_deviation * level * clamped(rng));
                     scales.push((key, s));
                     s
                 }
@@ -325,6 +378,70 @@ fn world_rotations(skeleton: &Skeleton, motion: &Motion) -> Vec<DQuat> {
     world
 }
 
+/// Frame-major, per frame and joint of `world` (`n` joints a frame, at
+/// `fps`), the joint's mean angular speed (rad/s) over the frames within
+/// `window_s` of it.
+fn windowed_angular_speeds(world: &[DQuat], n: usize, fps: f64, window_s: f64) -> Vec<f64> {
+    let frames = world.len().checked_div(n).unwrap_or(0);
+    let at = |f: usize, j: usize| world[f * n + j];
+    // Per frame, the central difference's speed.
+    let mut own = Vec::with_capacity(frames * n);
+    for f in 0..frames {
+        let (prev, next) = (f.saturating_sub(1), (f + 1).min(frames - 1));
+        own.extend(
+            (0..n)
+                .map(|j| angle_rad(at(prev, j).inverse() * at(next, j)) * fps / (next - prev).max(1) as f64),
+        );
+    }
+    let reach = (window_s * fps).round() as usize;
+    if reach == 0 {
+        return own;
+    }
+    // Each window's sum as a difference of running sums.
+    let mut sums = vec![0.0; (frames + 1) * n];
+    for i in 0..frames * n {
+        sums[i + n] = sums[i] + own[i];
+    }
+    let mut speeds = Vec::with_capacity(frames * n);
+    for f in 0..frames {
+        let (first, last) = (f.saturating_sub(reach), (f + reach).min(frames - 1));
+        let count = (last - first + 1) as f64;
+        speeds.extend((0..n).map(|j| (sums[(last + 1) * n + j] - sums[first * n + j]) / count));
+    }
+    speeds
+}
+
+/// Each joint's orientation noise, frame after frame: a first-order
+/// autoregression that keeps `e^(−dt/τ)` of the last frame's rotation
+/// vector ([`ErrorSizes::noise_correlation_s`]) and adds a fresh draw, sized
+/// so that a steady deviation asked for is the deviation the noise has.
+struct CorrelatedNoise {
+    /// Per joint, the last rotation vector (degrees); `None` before the
+    /// first frame.
+    last_deg: Vec<Option<DVec3>>,
+    /// The share of the last frame's noise a frame keeps.
+    keep: f64,
+}
+
+impl CorrelatedNoise {
+    fn new(n: usize, keep: f64) -> CorrelatedNoise {
+        CorrelatedNoise { last_deg: vec![None; n], keep }
+    }
+
+    /// Joint `j`'s noise in the next frame, of `deviation_deg` per axis;
+    /// three draws of `rng`, as [`random_rotation`] takes.
+    fn next(&mut self, rng: &mut XorShift64, j: usize, deviation_deg: f64) -> DMat3 {
+        let draw_deg = DVec3::new(clamped(rng), clamped(rng), clamped(rng)) * deviation_deg;
+        let now_deg = match self.last_deg[j] {
+            // The first frame has no history: it draws the whole deviation.
+            None => draw_deg,
+            Some(last) => last * self.keep + draw_deg * libm::sqrt(1.0 - self.keep * self.keep),
+        };
+        self.last_deg[j] = Some(now_deg);
+        DMat3::from_quat(DQuat::from_scaled_axis(now_deg * (std::f64::consts::PI / 180.0)))
+    }
+}
+
 /// The angle of a rotation, in radians.
 fn angle_rad(q: DQuat) -> f64 {
     2.0 * libm::atan2(q.xyz().length(), q.w.abs())
@@ -359,22 +476,30 @@ fn held_channels(
     held
 }
 
-/// Applies the suit's errors (seeded by `seed`, `level` times the real
-/// suit's, see [`REAL_SUIT_LEVEL`]; a negative or NaN level counts as 0) to
+/// Applies the suit's errors (of `sizes`, seeded by `seed`, `level` times
+/// the real suit's, see [`REAL_SUIT_LEVEL`]; a negative or NaN level counts
+/// as 0) to
 /// `motion` of `skeleton`. Rotation channels may come in any order of three
 /// axes; a sensed joint with other rotation channels (one, two, or one axis
 /// twice) keeps its true ones. Bones may be OFFSETs or position channels:
 /// both are scaled, by the same draw. The hips' path is the vendor's guess
 /// ([`translation_joint`] says in which channels), the joints above the hips
 /// hold still, toes without a sensor hold their usual bend.
-pub fn apply(skeleton: &Skeleton, motion: &Motion, body: &SuitBody, seed: u64, level: f64) -> SuitGrade {
+pub fn apply(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    body: &SuitBody,
+    sizes: &ErrorSizes,
+    seed: u64,
+    level: f64,
+) -> SuitGrade {
     let level = level.max(0.0);
     let n = skeleton.joint_count();
     let parts = parts(skeleton, body.hips);
     let carrier = translation_joint(skeleton, body.hips);
     let is_bone: Vec<bool> = (0..n).map(|j| j != body.hips && parts[j] != Part::AboveHips).collect();
     let mut rng = XorShift64(seed.max(1));
-    let scales = bone_scales(skeleton, &mut rng, level);
+    let scales = bone_scales(skeleton, &mut rng, sizes, level);
     let suit_skeleton = scaled_skeleton(skeleton, &scales, &is_bone);
     let mut out = motion.clone();
     scale_position_bones(skeleton, &mut out, &scales, &is_bone);
@@ -410,7 +535,9 @@ pub fn apply(skeleton: &Skeleton, motion: &Motion, body: &SuitBody, seed: u64, l
     let held = held_channels(skeleton, motion, &parts, carrier);
     let fps = motion.fps();
     let at = |f: usize, j: usize| world[f * n + j];
-    let lag_frames = FUSION_LAG_S * level * fps;
+    let lag_frames = sizes.fusion_lag_s * level * fps;
+    let speeds = windowed_angular_speeds(&world, n, fps, sizes.noise_speed_window_s);
+    let mut noise = CorrelatedNoise::new(n, sizes.noise_kept(fps));
     let mut suit_world = vec![DMat3::IDENTITY; n];
     // Each joint's global rotation as the file now says it: the suit's for
     // a sensed joint, through the held channels for the others.
@@ -420,15 +547,12 @@ pub fn apply(skeleton: &Skeleton, motion: &Motion, body: &SuitBody, seed: u64, l
         let lagged = (f as f64 - lag_frames).max(0.0);
         let (before, fraction) = (lagged.floor() as usize, lagged.fract());
         let after = (before + 1).min(frames - 1);
-        let (prev, next) = (f.saturating_sub(1), (f + 1).min(frames - 1));
         let heading_world = DMat3::from_rotation_y(heading.at_deg(t_s).to_radians());
         // Every joint draws its noise, sensor or not: a seed's draws are
         // the same whichever joints have sensors.
         for j in 0..n {
             let true_lagged = DMat3::from_quat(at(before, j).slerp(at(after, j), fraction));
-            let turned_rad = angle_rad(at(prev, j).inverse() * at(next, j));
-            let speed_rad_per_s = turned_rad * fps / (next - prev).max(1) as f64;
-            let noise = random_rotation(&mut rng, noise_deviation_deg(speed_rad_per_s) * level);
+            let noise = noise.next(&mut rng, j, sizes.noise_deviation_deg(speeds[f * n + j]) * level);
             let own_deg =
                 DVec3::new(drift[j][0].at_deg(t_s), drift[j][1].at_deg(t_s), drift[j][2].at_deg(t_s));
             let own = DMat3::from_quat(DQuat::from_scaled_axis(own_deg * (std::f64::consts::PI / 180.0)));
@@ -566,14 +690,17 @@ fn vendor_translation(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     #[test]
     fn the_noise_has_the_deviation_it_says() {
-        assert!((noise_deviation_deg(2.0) - 2.0).abs() < 0.01, "about 2° at 2 rad/s");
-        assert_eq!(noise_deviation_deg(0.0), NOISE_FLOOR_DEG);
+        let described = ErrorSizes::DESCRIBED;
+        assert!((described.noise_deviation_deg(2.0) - 2.0).abs() < 0.01, "about 2° at 2 rad/s");
+        assert_eq!(described.noise_deviation_deg(0.0), described.noise_floor_deg);
+        assert!((ErrorSizes::MEASURED.noise_deviation_deg(2.0) - 3.6).abs() < 0.01);
         let mut rng = XorShift64(7);
         let n = 40_000;
-        let deviation_deg = noise_deviation_deg(2.0);
+        let deviation_deg = described.noise_deviation_deg(2.0);
         let mut sum_sq = DVec3::ZERO;
         for _ in 0..n {
             let q = DQuat::from_mat3(&random_rotation(&mut rng, deviation_deg));
@@ -585,6 +712,48 @@ mod tests {
         for axis_deg in measured {
             assert!((axis_deg / deviation_deg - 0.985).abs() < 0.02, "{measured:?} for {deviation_deg}");
         }
+    }
+
+    #[test]
+    fn the_noise_keeps_its_deviation_and_its_correlation_at_any_rate() {
+        let sizes = ErrorSizes::MEASURED;
+        for fps in [30.0, 100.0] {
+            let mut noise = CorrelatedNoise::new(1, sizes.noise_kept(fps));
+            let mut rng = XorShift64(5);
+            let n = 40_000;
+            let deg: Vec<DVec3> = (0..n)
+                .map(|_| DQuat::from_mat3(&noise.next(&mut rng, 0, 2.0)).to_scaled_axis() * (180.0 / PI))
+                .collect();
+            let variance = deg.iter().map(|v| v.length_squared()).sum::<f64>() / (3 * n) as f64;
+            // Clamping at 2.5 deviations takes ~3% of the variance away.
+            assert!((variance.sqrt() / 2.0 - 0.985).abs() < 0.03, "{} at {fps} fps", variance.sqrt());
+            // A frame keeps e^(−dt/τ) of the last one, whatever dt is.
+            let lag_one =
+                deg.windows(2).map(|w| w[0].dot(w[1])).sum::<f64>() / (3.0 * variance * (n - 1) as f64);
+            let expected = (-1.0 / (fps * sizes.noise_correlation_s)).exp();
+            assert!((lag_one - expected).abs() < 0.02, "{lag_one} against {expected} at {fps} fps");
+        }
+        assert!((sizes.noise_kept(30.0) - 0.65).abs() < 0.01);
+        // The README's noise is white.
+        assert_eq!(ErrorSizes::DESCRIBED.noise_kept(30.0), 0.0);
+    }
+
+    #[test]
+    fn the_speed_the_noise_grows_with_is_a_window_mean() {
+        // One joint turning about Y at 2 rad/s for 30 frames of 30, then still.
+        let fps = 30.0;
+        let world: Vec<DQuat> =
+            (0..60).map(|f| DQuat::from_rotation_y(2.0 * (f.min(30) as f64) / fps)).collect();
+        let window_s = ErrorSizes::MEASURED.noise_speed_window_s;
+        let speeds = windowed_angular_speeds(&world, 1, fps, window_s);
+        assert!((speeds[15] - 2.0).abs() < 1e-9);
+        assert!(speeds[55].abs() < 1e-9);
+        // Within the window of the stop, the mean of both.
+        let reach = (window_s * fps).round() as usize;
+        assert!(speeds[31] > 0.2 && speeds[31] < 1.8, "{}", speeds[31]);
+        assert!(speeds[30 + reach + 1].abs() < 1e-9);
+        // With no window, each frame's own.
+        assert_eq!(windowed_angular_speeds(&world, 1, fps, 0.0)[31], 0.0);
     }
 
     #[test]
@@ -606,7 +775,7 @@ mod tests {
         let right = s.push_joint("RightLeg".into(), Some(root), DVec3::new(0.0, -40.0, 0.0), vec![], false);
         let end_l = s.push_joint("EndSite3".into(), Some(left), DVec3::new(0.0, -10.0, 0.0), vec![], true);
         let end_r = s.push_joint("EndSite4".into(), Some(right), DVec3::new(0.0, -10.0, 0.0), vec![], true);
-        let scales = bone_scales(&s, &mut XorShift64(3), REAL_SUIT_LEVEL);
+        let scales = bone_scales(&s, &mut XorShift64(3), &ErrorSizes::MEASURED, REAL_SUIT_LEVEL);
         let scaled = scaled_skeleton(&s, &scales, &[false, true, true, true, true]);
         assert_eq!(scaled.offsets_cm[left], scaled.offsets_cm[right]);
         assert_eq!(scaled.offsets_cm[end_l], scaled.offsets_cm[end_r]);
@@ -692,7 +861,7 @@ mod tests {
         let (s, motion) = bandai_like([Zrotation, Xrotation, Yrotation], false);
         let body = suit_body(&s);
         assert_eq!((s.names[body.hips].as_str(), body.leg_bones.len()), ("Hips", 2));
-        let suit = apply(&s, &motion, &body, 5, REAL_SUIT_LEVEL);
+        let suit = apply(&s, &motion, &body, &ErrorSizes::MEASURED, 5, REAL_SUIT_LEVEL);
         let frame = suit.motion.frame(7);
         let scale = |joint: &str, axis: Channel| {
             frame[channel(&s, joint, axis)] / motion.frame(7)[channel(&s, joint, axis)]
@@ -731,7 +900,7 @@ mod tests {
         for order in [[Z, X, Y], [Y, X, Z], [X, Y, Z]] {
             let (s, motion) = bandai_like(order, true);
             let body = suit_body(&s);
-            let suit = apply(&s, &motion, &body, 9, 0.0);
+            let suit = apply(&s, &motion, &body, &ErrorSizes::MEASURED, 9, 0.0);
             assert_eq!(suit.leg_length_ratio, 1.0);
             let (truth, graded) = (rotations(&s, &motion), rotations(&s, &suit.motion));
             let toes: Vec<usize> = ["Toes_L", "Toes_R"].map(|t| s.joint(t).unwrap()).to_vec();
@@ -758,7 +927,7 @@ mod tests {
     fn toes_without_a_sensor_hold_their_usual_bend() {
         use Channel::{Xrotation, Yrotation, Zrotation};
         let (s, motion) = bandai_like([Zrotation, Xrotation, Yrotation], false);
-        let suit = apply(&s, &motion, &suit_body(&s), 3, REAL_SUIT_LEVEL);
+        let suit = apply(&s, &motion, &suit_body(&s), &ErrorSizes::MEASURED, 3, REAL_SUIT_LEVEL);
         for rotation in [Zrotation, Xrotation, Yrotation] {
             let index = channel(&s, "Toes_L", rotation);
             let truth: Vec<f64> = (0..motion.frame_count()).map(|f| motion.frame(f)[index]).collect();
@@ -776,7 +945,8 @@ mod tests {
         use Channel::{Xrotation, Yrotation, Zrotation};
         let (s, motion) = bandai_like([Zrotation, Xrotation, Yrotation], false);
         let body = suit_body(&s);
-        let [full, half] = [REAL_SUIT_LEVEL, 0.5].map(|level| apply(&s, &motion, &body, 11, level));
+        let [full, half] =
+            [REAL_SUIT_LEVEL, 0.5].map(|level| apply(&s, &motion, &body, &ErrorSizes::MEASURED, 11, level));
         let shank = s.joint("LowerLeg_L").unwrap();
         let deviation = |g: &SuitGrade| g.skeleton.offsets_cm[shank].y / s.offsets_cm[shank].y - 1.0;
         // One draw for both levels: the body's and the bone's deviations
