@@ -12,6 +12,7 @@
 pub mod demo;
 pub mod metrics;
 pub mod suit;
+pub mod suit_errors;
 pub mod summary;
 pub mod track;
 
