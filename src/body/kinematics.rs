@@ -9,7 +9,7 @@
 //!   Namco's give every joint 6 channels whose positions equal the bone
 //!   lengths; adding them to the OFFSET would double every bone.)
 
-use glam::{DMat3, DVec3};
+use glam::{DMat3, DQuat, DVec3};
 
 use crate::body::skeleton::{Channel, Motion, Poses, Skeleton};
 
@@ -88,6 +88,25 @@ pub fn local_translation(offset_cm: DVec3, channels: &[Channel], values: &[f64])
         }
     }
     t
+}
+
+/// Every joint's global rotation, frame after frame (`frame * joints +
+/// joint`): its parents' rotations composed with its own channels'.
+pub fn world_rotations(skeleton: &Skeleton, motion: &Motion) -> Vec<DQuat> {
+    let n = skeleton.joint_count();
+    let mut world = Vec::with_capacity(n * motion.frame_count());
+    for f in 0..motion.frame_count() {
+        let values = motion.frame(f);
+        let start = world.len();
+        for j in 0..n {
+            let first = skeleton.first_channel[j];
+            let channels = &skeleton.channels[j];
+            let local = local_rotation(channels, &values[first..first + channels.len()]);
+            let parent = skeleton.parents[j].map_or(DMat3::IDENTITY, |p| DMat3::from_quat(world[start + p]));
+            world.push(DQuat::from_mat3(&(parent * local)).normalize());
+        }
+    }
+    world
 }
 
 /// Global positions of every joint (end sites included) in every frame.

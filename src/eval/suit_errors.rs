@@ -17,10 +17,10 @@
 
 use std::f64::consts::PI;
 
-use glam::{DMat3, DQuat, DVec3};
+use glam::{DQuat, DVec3};
 
-use crate::body::kinematics::{forward_kinematics, local_rotation};
-use crate::body::skeleton::{Motion, Poses, Skeleton};
+use crate::body::kinematics::{forward_kinematics, world_rotations};
+use crate::body::skeleton::Poses;
 use crate::io::bvh::Bvh;
 
 /// The upper edges of the noise's bins of angular speed (rad/s); the last
@@ -42,24 +42,6 @@ pub struct SuitErrors {
     pub correlation: [f64; 2],
     /// The standard deviation of the log of the bones' length ratios.
     pub bone_spread: f64,
-}
-
-/// Frame-major, per frame and joint, the joint's global rotation.
-fn world_rotations(skeleton: &Skeleton, motion: &Motion) -> Vec<DQuat> {
-    let n = skeleton.joint_count();
-    let mut world: Vec<DQuat> = Vec::with_capacity(n * motion.frame_count());
-    for f in 0..motion.frame_count() {
-        let values = motion.frame(f);
-        let start = world.len();
-        for j in 0..n {
-            let first = skeleton.first_channel[j];
-            let channels = &skeleton.channels[j];
-            let local = local_rotation(channels, &values[first..first + channels.len()]);
-            let parent = skeleton.parents[j].map_or(DMat3::IDENTITY, |p| DMat3::from_quat(world[start + p]));
-            world.push(DQuat::from_mat3(&(parent * local)).normalize());
-        }
-    }
-    world
 }
 
 /// A rotation as its rotation vector (rad), the short way round.

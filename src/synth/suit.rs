@@ -36,7 +36,7 @@
 use glam::{DMat3, DQuat, DVec3};
 
 use crate::body::feet::{FootJoints, above_hips, hips_joint};
-use crate::body::kinematics::{local_rotation, local_translation, rotation_channel_degrees};
+use crate::body::kinematics::{local_rotation, local_translation, rotation_channel_degrees, world_rotations};
 use crate::body::skeleton::{Channel, Motion, Skeleton};
 use crate::signal::stats::median;
 use crate::synth::rng::XorShift64;
@@ -358,24 +358,6 @@ pub fn joints_kept_true(skeleton: &Skeleton, body: &SuitBody) -> Vec<usize> {
             order.and_then(|order| rotation_channel_degrees(order, DMat3::IDENTITY)).is_none()
         })
         .collect()
-}
-
-/// Every joint's true global rotation, frame after frame (`frame * joints + joint`).
-fn world_rotations(skeleton: &Skeleton, motion: &Motion) -> Vec<DQuat> {
-    let n = skeleton.joint_count();
-    let mut world = Vec::with_capacity(n * motion.frame_count());
-    for f in 0..motion.frame_count() {
-        let values = motion.frame(f);
-        let start = world.len();
-        for j in 0..n {
-            let first = skeleton.first_channel[j];
-            let channels = &skeleton.channels[j];
-            let local = local_rotation(channels, &values[first..first + channels.len()]);
-            let parent = skeleton.parents[j].map_or(DMat3::IDENTITY, |p| DMat3::from_quat(world[start + p]));
-            world.push(DQuat::from_mat3(&(parent * local)).normalize());
-        }
-    }
-    world
 }
 
 /// Frame-major, per frame and joint of `world` (`n` joints a frame, at
