@@ -363,63 +363,51 @@ pub fn joints_kept_true(skeleton: &Skeleton, body: &SuitBody) -> Vec<usize> {
 /// Frame-major, per frame and joint of `world` (`n` joints a frame, at
 /// `fps`), the joint's mean angular speed (rad/s) over the frames within
 /// `window_s` of it.
+// Not inlined into `apply` (nor `CorrelatedNoise::next`): the player's first
+// load is held to 300 KB gzipped (tests/browser/app.test.mjs), and inlined
+// they cost it 0.3 KB more.
+#[inline(never)]
 fn windowed_angular_speeds(world: &[DQuat], n: usize, fps: f64, window_s: f64) -> Vec<f64> {
     let frames = world.len().checked_div(n).unwrap_or(0);
-    let at = |f: usize, j: usize| world[f * n + j];
-    // Per frame, the central difference's speed.
-    let mut own = Vec::with_capacity(frames * n);
-    for f in 0..frames {
+    // The central difference's speed in frame `f`.
+    let speed = |f: usize, j: usize| {
         let (prev, next) = (f.saturating_sub(1), (f + 1).min(frames - 1));
-        own.extend(
-            (0..n)
-                .map(|j| angle_rad(at(prev, j).inverse() * at(next, j)) * fps / (next - prev).max(1) as f64),
-        );
-    }
+        angle_rad(world[prev * n + j].inverse() * world[next * n + j]) * fps / (next - prev).max(1) as f64
+    };
     let reach = (window_s * fps).round() as usize;
-    if reach == 0 {
-        return own;
-    }
-    // Each window's sum as a difference of running sums.
-    let mut sums = vec![0.0; (frames + 1) * n];
-    for i in 0..frames * n {
-        sums[i + n] = sums[i] + own[i];
-    }
-    let mut speeds = Vec::with_capacity(frames * n);
-    for f in 0..frames {
-        let (first, last) = (f.saturating_sub(reach), (f + reach).min(frames - 1));
-        let count = (last - first + 1) as f64;
-        speeds.extend((0..n).map(|j| (sums[(last + 1) * n + j] - sums[first * n + j]) / count));
-    }
-    speeds
+    (0..frames * n)
+        .map(|i| {
+            let (f, j) = (i / n, i % n);
+            let (first, last) = (f.saturating_sub(reach), (f + reach).min(frames - 1));
+            (first..=last).map(|g| speed(g, j)).sum::<f64>() / (last - first + 1) as f64
+        })
+        .collect()
 }
 
 /// Each joint's orientation noise, frame after frame: a first-order
-/// autoregression that keeps `e^(−dt/τ)` of the last frame's rotation
-/// vector ([`ErrorSizes::noise_correlation_s`]) and adds a fresh draw, sized
-/// so that a steady deviation asked for is the deviation the noise has.
+/// autoregression that keeps `keep` of the last frame's rotation vector
+/// (`e^(−dt/τ)`, [`ErrorSizes::noise_correlation_s`]) and adds a fresh
+/// draw, sized so that a steady deviation asked for is the deviation the
+/// noise has; the first frame draws it whole.
 struct CorrelatedNoise {
-    /// Per joint, the last rotation vector (degrees); `None` before the
-    /// first frame.
-    last_deg: Vec<Option<DVec3>>,
-    /// The share of the last frame's noise a frame keeps.
+    /// Per joint, the last rotation vector (degrees).
+    last_deg: Vec<DVec3>,
     keep: f64,
 }
 
 impl CorrelatedNoise {
     fn new(n: usize, keep: f64) -> CorrelatedNoise {
-        CorrelatedNoise { last_deg: vec![None; n], keep }
+        CorrelatedNoise { last_deg: vec![DVec3::ZERO; n], keep }
     }
 
-    /// Joint `j`'s noise in the next frame, of `deviation_deg` per axis;
-    /// three draws of `rng`, as [`random_rotation`] takes.
-    fn next(&mut self, rng: &mut XorShift64, j: usize, deviation_deg: f64) -> DMat3 {
+    /// Joint `j`'s noise in frame `f`, of `deviation_deg` per axis; three
+    /// draws of `rng`, as [`random_rotation`] takes.
+    #[inline(never)]
+    fn next(&mut self, rng: &mut XorShift64, f: usize, j: usize, deviation_deg: f64) -> DMat3 {
+        let keep = if f == 0 { 0.0 } else { self.keep };
         let draw_deg = DVec3::new(clamped(rng), clamped(rng), clamped(rng)) * deviation_deg;
-        let now_deg = match self.last_deg[j] {
-            // The first frame has no history: it draws the whole deviation.
-            None => draw_deg,
-            Some(last) => last * self.keep + draw_deg * libm::sqrt(1.0 - self.keep * self.keep),
-        };
-        self.last_deg[j] = Some(now_deg);
+        let now_deg = self.last_deg[j] * keep + draw_deg * libm::sqrt(1.0 - keep * keep);
+        self.last_deg[j] = now_deg;
         DMat3::from_quat(DQuat::from_scaled_axis(now_deg * (std::f64::consts::PI / 180.0)))
     }
 }
@@ -534,7 +522,7 @@ pub fn apply(
         // the same whichever joints have sensors.
         for j in 0..n {
             let true_lagged = DMat3::from_quat(at(before, j).slerp(at(after, j), fraction));
-            let noise = noise.next(&mut rng, j, sizes.noise_deviation_deg(speeds[f * n + j]) * level);
+            let noise = noise.next(&mut rng, f, j, sizes.noise_deviation_deg(speeds[f * n + j]) * level);
             let own_deg =
                 DVec3::new(drift[j][0].at_deg(t_s), drift[j][1].at_deg(t_s), drift[j][2].at_deg(t_s));
             let own = DMat3::from_quat(DQuat::from_scaled_axis(own_deg * (std::f64::consts::PI / 180.0)));
@@ -704,7 +692,7 @@ mod tests {
             let mut rng = XorShift64(5);
             let n = 40_000;
             let deg: Vec<DVec3> = (0..n)
-                .map(|_| DQuat::from_mat3(&noise.next(&mut rng, 0, 2.0)).to_scaled_axis() * (180.0 / PI))
+                .map(|f| DQuat::from_mat3(&noise.next(&mut rng, f, 0, 2.0)).to_scaled_axis() * (180.0 / PI))
                 .collect();
             let variance = deg.iter().map(|v| v.length_squared()).sum::<f64>() / (3 * n) as f64;
             // Clamping at 2.5 deviations takes ~3% of the variance away.
