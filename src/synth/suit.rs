@@ -20,9 +20,9 @@
 //! - `lag`: the fusion filter answers late ([`ErrorSizes::fusion_lag_s`]);
 //! - bones: the vendor scales a template skeleton from the actor's height, so
 //!   every bone is off by the height's error ([`BODY_SCALE_DEVIATION`]) and
-//!   its own ([`ErrorSizes::bone_scale_deviation`]), left and right alike (`LeftLeg` and
-//!   `RightLeg`, `UpperLeg_L` and `UpperLeg_R` are one bone), whether the
-//!   bone is an OFFSET or position channels (Bandai's);
+//!   its own ([`ErrorSizes::bone_scale_deviation`]), left and right alike
+//!   (`LeftLeg` and `RightLeg`, `UpperLeg_L` and `UpperLeg_R` are one bone),
+//!   whether the bone is an OFFSET or position channels (Bandai's);
 //! - translation: the vendor's guess of the hips' path
 //!   ([`translation_joint`] says in which channels): the true path scaled
 //!   about its start by the leg-length ratio (strides scale with the legs)
@@ -33,6 +33,17 @@
 //! in two sizes ([`ErrorSizes`]): as the README's words put them, and as
 //! the shared suit files measure.
 //!
+//! The suit's rotations are written in each joint's own channel order (any
+//! of the six of three axes). Joints without a sensor (toes: the karate
+//! suit's 17 sensors have none there) hold their usual bend, and what an
+//! exporter puts above the hips (Bandai's `joint_Root`) holds still: see
+//! `Part`. The demo's skeleton, the karate suit's, has neither: each foot
+//! is one segment, ankle to toe end site, with its own sensor.
+//!
+//! Random draws are Gaussian, each clamped to ±[`MAX_SIGMAS`] deviations so
+//! that no seed gives an absurd suit. A seed's draws come in the same order
+//! whatever the skeleton's channels and whichever joints have sensors.
+
 use glam::{DMat3, DQuat, DVec3};
 
 use crate::body::feet::{FootJoints, above_hips, hips_joint};
@@ -140,7 +151,16 @@ impl ErrorSizes {
 
 /// A rotation error drawn as a rotation vector with `deviation_deg` per axis.
 pub fn random_rotation(rng: &mut XorShift64, deviation_deg: f64) -> DMat3 {
-    let axis_deg = DVec3::new(clamped(rng), clamped(rng), clamped(rng)) * deviation_deg;
+    rotation_deg(random_axis_deg(rng, deviation_deg))
+}
+
+/// A rotation vector (°) of `deviation_deg` per axis: three draws of `rng`.
+fn random_axis_deg(rng: &mut XorShift64, deviation_deg: f64) -> DVec3 {
+    DVec3::new(clamped(rng), clamped(rng), clamped(rng)) * deviation_deg
+}
+
+/// The rotation whose rotation vector is `axis_deg` (°).
+fn rotation_deg(axis_deg: DVec3) -> DMat3 {
     DMat3::from_quat(DQuat::from_scaled_axis(axis_deg * (std::f64::consts::PI / 180.0)))
 }
 
@@ -365,7 +385,9 @@ pub fn joints_kept_true(skeleton: &Skeleton, body: &SuitBody) -> Vec<usize> {
 /// `window_s` of it.
 // Not inlined into `apply` (nor `CorrelatedNoise::next`): the player's first
 // load is held to 300 KB gzipped (tests/browser/app.test.mjs), and inlined
-// they cost it 0.3 KB more.
+// they cost it 0.3 KB more. For the same bytes each frame's speed is
+// computed again in every window it falls in, not kept: the player's demo
+// has no window, and the measured sizes' window is 9 frames at 30 fps.
 #[inline(never)]
 fn windowed_angular_speeds(world: &[DQuat], n: usize, fps: f64, window_s: f64) -> Vec<f64> {
     let frames = world.len().checked_div(n).unwrap_or(0);
@@ -405,10 +427,10 @@ impl CorrelatedNoise {
     #[inline(never)]
     fn next(&mut self, rng: &mut XorShift64, f: usize, j: usize, deviation_deg: f64) -> DMat3 {
         let keep = if f == 0 { 0.0 } else { self.keep };
-        let draw_deg = DVec3::new(clamped(rng), clamped(rng), clamped(rng)) * deviation_deg;
+        let draw_deg = random_axis_deg(rng, deviation_deg);
         let now_deg = self.last_deg[j] * keep + draw_deg * libm::sqrt(1.0 - keep * keep);
         self.last_deg[j] = now_deg;
-        DMat3::from_quat(DQuat::from_scaled_axis(now_deg * (std::f64::consts::PI / 180.0)))
+        rotation_deg(now_deg)
     }
 }
 
@@ -448,8 +470,7 @@ fn held_channels(
 
 /// Applies the suit's errors (of `sizes`, seeded by `seed`, `level` times
 /// the real suit's, see [`REAL_SUIT_LEVEL`]; a negative or NaN level counts
-/// as 0) to
-/// `motion` of `skeleton`. Rotation channels may come in any order of three
+/// as 0) to `motion` of `skeleton`. Rotation channels may come in any order of three
 /// axes; a sensed joint with other rotation channels (one, two, or one axis
 /// twice) keeps its true ones. Bones may be OFFSETs or position channels:
 /// both are scaled, by the same draw. The hips' path is the vendor's guess
@@ -525,7 +546,7 @@ pub fn apply(
             let noise = noise.next(&mut rng, f, j, sizes.noise_deviation_deg(speeds[f * n + j]) * level);
             let own_deg =
                 DVec3::new(drift[j][0].at_deg(t_s), drift[j][1].at_deg(t_s), drift[j][2].at_deg(t_s));
-            let own = DMat3::from_quat(DQuat::from_scaled_axis(own_deg * (std::f64::consts::PI / 180.0)));
+            let own = rotation_deg(own_deg);
             suit_world[j] = heading_world * own * noise * true_lagged * misalignment[j];
         }
         let values = out.frame_mut(f);
