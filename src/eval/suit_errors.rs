@@ -2,8 +2,8 @@
 //! the suit error model ([`crate::synth::suit::ErrorSizes`]) are measured
 //! with (`examples/suit_stats.rs` prints them).
 //!
-//! Over the sensed segments (every joint below the root but the toes and
-//! end sites), of the error rotation `world_from_suit · world_from_true⁻¹`
+//! Over the segments with a sensor ([`sensed_joints`]: the hips and every
+//! joint below them but the toes and end sites), of the error rotation `world_from_suit · world_from_true⁻¹`
 //! as a rotation vector:
 //! - the lag: the least-squares delay that explains it as the segment's
 //!   angular velocity times a delay (a fusion filter answering late);
@@ -19,9 +19,11 @@ use std::f64::consts::PI;
 
 use glam::{DQuat, DVec3};
 
+use crate::body::feet::{hips_joint, resolve_feet};
 use crate::body::kinematics::{forward_kinematics, world_rotations};
 use crate::body::skeleton::Poses;
 use crate::io::bvh::Bvh;
+use crate::synth::suit::sensed_joints;
 
 /// The upper edges of the noise's bins of angular speed (rad/s); the last
 /// bin is open.
@@ -61,8 +63,9 @@ fn less_slow(values: &[DVec3], half: usize) -> Vec<DVec3> {
 }
 
 /// The errors of `suit` against `truth`, the same joints in the same
-/// order; an error when they are not, or when the take is too short to
-/// take out its slow part (a second).
+/// order; an error when they are not, when its feet are not found by their
+/// names, or when the take is too short to take out its slow part (a
+/// second).
 pub fn suit_errors(suit: &Bvh, truth: &Bvh) -> Result<SuitErrors, String> {
     let names = &truth.skeleton.names;
     if suit.skeleton.names != *names {
@@ -77,11 +80,8 @@ pub fn suit_errors(suit: &Bvh, truth: &Bvh) -> Result<SuitErrors, String> {
     }
     let (suit_world, true_world) =
         (world_rotations(&suit.skeleton, &suit.motion), world_rotations(&truth.skeleton, &truth.motion));
-    let sensed: Vec<usize> = (0..n)
-        .filter(|&j| {
-            truth.skeleton.parents[j].is_some() && !truth.skeleton.is_end_site[j] && !names[j].contains("Toe")
-        })
-        .collect();
+    let feet = resolve_feet(names, None, None)?;
+    let sensed = sensed_joints(&truth.skeleton, hips_joint(&truth.skeleton.parents, feet));
     // Per sensed segment: the error and the true angular velocity.
     let per_segment: Vec<(Vec<DVec3>, Vec<DVec3>)> = sensed
         .iter()

@@ -365,6 +365,13 @@ fn rotation_channel_indices(channels: &[Channel]) -> Option<[usize; 3]> {
     rotations.try_into().ok()
 }
 
+/// The joints whose rotation is a sensor's (not the end sites, which have
+/// none): every one below the hips `hips` but the toes.
+pub fn sensed_joints(skeleton: &Skeleton, hips: usize) -> Vec<usize> {
+    let parts = parts(skeleton, hips);
+    (0..skeleton.joint_count()).filter(|&j| parts[j] == Part::Sensed && !skeleton.is_end_site[j]).collect()
+}
+
 /// The joints with a sensor whose rotation channels the model cannot write
 /// (one or two of them, or one axis twice): they keep their true rotations
 /// (see [`apply`]), so a caller can say so.
