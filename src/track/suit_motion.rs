@@ -11,6 +11,7 @@ use crate::body::skeleton::Poses;
 use crate::error::Error;
 use crate::io::recording::{FeetChoice, Recording};
 use crate::translate::Method;
+use crate::translate::contact::ContactParams;
 
 /// The suit's recording as the tracker reads it, at any video time.
 #[derive(Clone, Debug)]
@@ -43,11 +44,17 @@ pub enum BvhInstant {
 
 impl SuitMotion {
     /// Reads `recording` (its own translation kept aside as the suit's) and
-    /// runs the contact method on it.
+    /// runs the contact method on it, a double support's feet free to move
+    /// apart ([`ContactParams::double_support_slides`]): the tracker's
+    /// smoother corrects the steps' scale from the camera, not their noise
+    /// (with the slides paid for, the fused track's mean error on the shared
+    /// scenes, over five runs each: walk 4.30 → 4.82 cm, walk_turns
+    /// 3.34 → 3.54, run 6.26 → 6.52).
     pub fn new(recording: &Recording) -> Result<SuitMotion, Error> {
         let feet = recording.feet(&FeetChoice::default())?;
         let hips = recording.hips(feet);
-        let translated = recording.translate(&FeetChoice::default(), &Method::default())?;
+        let prediction = ContactParams { double_support_slides: false, ..ContactParams::default() };
+        let translated = recording.translate(&FeetChoice::default(), &Method::Contact(prediction))?;
         let ground_cm = translated.contact().map_or(0.0, |c| c.ground_cm);
         let n = recording.frame_count();
         let mut body_cm = translated.poses.clone();

@@ -37,7 +37,7 @@ fn problem_at(frames: &[usize], soles: &PerFoot<Sole>, motion: &Motion, dt: f64)
         motion.accel_off_g.as_ref().map(|off| frames.iter().map(|&f| off[f]).collect()),
         dt,
         motion.open_start,
-        frames.iter().map(|&f| motion.coast_cost_per_s[f]).collect(),
+        frames.iter().map(|&f| motion.in_place[f]).collect(),
     )
 }
 
@@ -61,8 +61,9 @@ pub(super) struct Motion {
     pub dt: f64,
     /// Whether the take may start coasting with a velocity yet unknown.
     pub open_start: bool,
-    /// Per frame, what a second of coasting costs there.
-    pub coast_cost_per_s: Vec<f64>,
+    /// Per frame, whether the body stays in place there (see
+    /// [`super::solve::Problem::in_place`]).
+    pub in_place: Vec<bool>,
 }
 
 /// One phase's choice of contacts and what it was chosen from.

@@ -39,7 +39,10 @@
 //! both feet stand, against the legs' drift their distance apart reads
 //! (`still.rs`).
 //! Elsewhere a noisy pose's coast carries its smoothed velocity scaled by
-//! how much faster the stances around it end, read unsmoothed (`carry.rs`).
+//! how much faster the stances around it end, read unsmoothed (`carry.rs`),
+//! and a double support, whose mean of two feet carries less of the noise,
+//! pays for its feet moving apart beyond it: one of them slides
+//! (`solve.rs`).
 //!
 //! Everything is in seconds and centimetres ([`ContactParams`]), and the
 //! costs are integrals over time. The contacts are chosen on frames about
@@ -147,7 +150,7 @@ pub fn contact_translation(
         accel_off_g: accel_off_g(foot_accel_g, n),
         dt,
         open_start: grid.moves_measured_apart(),
-        coast_cost_per_s: vec![params.coast_cost_per_s; n],
+        in_place: vec![false; n],
     };
     let shapes = foot_shapes(poses, parents, feet, hips);
     let has_toes = shapes.left.has_toes() || shapes.right.has_toes();
@@ -158,17 +161,12 @@ pub fn contact_translation(
     // `still::in_place`), read from the path these contacts give; chosen
     // again if it is anywhere. A clean pose's coasts carry the body's own
     // velocity.
-    let mut in_place = vec![false; n];
     if pose_noise.reads_noise {
         let footing = Footing::new(shapes.as_ref().map(|shape| shape.sole(sole_depth_cm)));
         let path = grid.hips_path(&footing, &choices, horizontal(poses.at(0, hips)), dt, None);
         let hips_cm = upper_median(&footing.lowest.standing_cm);
-        in_place = still::in_place(&path, hips_cm, dt, params);
-        if in_place.contains(&true) {
-            motion.coast_cost_per_s = in_place
-                .iter()
-                .map(|&here| if here { params.in_place_coast_cost_per_s } else { params.coast_cost_per_s })
-                .collect();
+        motion.in_place = still::in_place(&path, hips_cm, dt, params);
+        if motion.in_place.contains(&true) {
             (sole_depth_cm, soles, choices) = choose_sole_depth(&shapes, has_toes, &grid, &motion, params)?;
             grid.start_from_what_follows(&mut choices, &soles, &motion, params);
         }
@@ -189,7 +187,7 @@ pub fn contact_translation(
     // stances around end faster than it (`carry.rs`).
     let exit = noisy.then(|| StanceExit {
         hips_to_com_cm: &motion.hips_to_com_cm,
-        in_place: &in_place,
+        in_place: &motion.in_place,
         min_stance_frames: (params.min_carried_stance_s * fps).round() as usize,
         min_com_height_cm: params.min_com_height_cm,
         window_frames: params.carry_window_s * fps,
@@ -214,7 +212,7 @@ pub fn contact_translation(
             dt,
             params.still_noise_share,
             params.max_still_smoothing_s,
-            Some(&still::FeetApart::of(&footing, &in_place, params.touch_cm)),
+            Some(&still::FeetApart::of(&footing, &motion.in_place, params.touch_cm)),
         )
     } else {
         path

@@ -143,6 +143,16 @@ pub struct ContactParams {
     /// down is not an inverted pendulum, and the push would grow without
     /// bound.
     pub min_com_height_cm: f64,
+    /// Whether a double support pays for its two feet moving apart beyond
+    /// the pose's noise (`solve.rs`): where one foot is still landing or
+    /// already lifting, the mean of the two follows half of its motion, and
+    /// a noisy pose's steps came out short. On for the translation. The
+    /// camera tracker's prediction goes without it
+    /// ([`crate::track::suit_motion`]): its smoother learns from the camera
+    /// how far the suit's steps are off in scale and heading, which takes
+    /// out such a bias but not noise, and the mean of two feet is the
+    /// steadier step.
+    pub double_support_slides: bool,
 }
 
 impl ContactParams {
@@ -243,6 +253,7 @@ impl Default for ContactParams {
             noise_window_s: 0.2,
             still_noise_share: 0.2,
             max_still_smoothing_s: 0.3,
+            double_support_slides: true,
         }
     }
 }
