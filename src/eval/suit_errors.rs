@@ -3,8 +3,8 @@
 //! with (`examples/suit_stats.rs` prints them).
 //!
 //! Over the segments with a sensor ([`sensed_joints`]: the hips and every
-//! joint below them but the toes and end sites), of the error rotation `world_from_suit · world_from_true⁻¹`
-//! as a rotation vector:
+//! joint below them but the toes and end sites), of the error rotation
+//! `world_from_suit · world_from_true⁻¹` as a rotation vector:
 //! - the lag: the least-squares delay that explains it as the segment's
 //!   angular velocity times a delay (a fusion filter answering late);
 //! - the noise by speed: per axis, what is left once that lag and

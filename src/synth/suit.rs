@@ -477,12 +477,12 @@ fn held_channels(
 
 /// Applies the suit's errors (of `sizes`, seeded by `seed`, `level` times
 /// the real suit's, see [`REAL_SUIT_LEVEL`]; a negative or NaN level counts
-/// as 0) to `motion` of `skeleton`. Rotation channels may come in any order of three
-/// axes; a sensed joint with other rotation channels (one, two, or one axis
-/// twice) keeps its true ones. Bones may be OFFSETs or position channels:
-/// both are scaled, by the same draw. The hips' path is the vendor's guess
-/// ([`translation_joint`] says in which channels), the joints above the hips
-/// hold still, toes without a sensor hold their usual bend.
+/// as 0) to `motion` of `skeleton`. Rotation channels may come in any order
+/// of three axes; a sensed joint with other rotation channels (one, two, or
+/// one axis twice) keeps its true ones. Bones may be OFFSETs or position
+/// channels: both are scaled, by the same draw. The hips' path is the
+/// vendor's guess ([`translation_joint`] says in which channels), the joints
+/// above the hips hold still, toes without a sensor hold their usual bend.
 pub fn apply(
     skeleton: &Skeleton,
     motion: &Motion,

@@ -260,16 +260,17 @@ impl Problem {
     /// The hips follow the mean of the two feet's lowest points, so where
     /// those points move apart each foot slides by half their difference.
     /// Why it costs: the mean of two feet carries √2 less of the pose's
-    /// noise than either, so on a noisy pose a double support explained the motion better than either foot alone
-    /// even where one foot was still landing or already lifting, and the
-    /// hips, following half of that foot's motion, fell short of every step
-    /// (on 40 suit-grade walks at level 0.5, 252 cm over 568 such frames,
-    /// where the truth's own contacts on the same pose were 169 cm long).
-    /// Two feet that stand move apart only by the noise the choice
-    /// keeps (`max_velocity_noise_cm_per_s` per axis and foot), and by more
-    /// than 43 cm/s in one frame of twenty: beyond that, each foot's slide
-    /// costs as a slip, `slip_cm_per_s` per `cost_time_s`, like a point
-    /// `touch_cm` above the floor. Where the body stays in place the feet's
+    /// noise than either, so on a noisy pose a double support explained the
+    /// motion better than either foot alone even where one foot was still
+    /// landing or already lifting, and the hips, following half of that
+    /// foot's motion, fell short of every step (on 40 suit-grade walks at
+    /// level 0.5, 252 cm over 568 such frames, where the truth's own
+    /// contacts on the same pose were 169 cm long). Two feet that stand move
+    /// apart only by the noise the choice keeps
+    /// (`max_velocity_noise_cm_per_s` per axis and foot), and by more than
+    /// 43 cm/s in one frame of twenty: beyond that, each foot's slide costs
+    /// as a slip, `slip_cm_per_s` per `cost_time_s`, like a point `touch_cm`
+    /// above the floor. Where the body stays in place the feet's
     /// moving apart is the pose's drift, which holding the hips still
     /// answers (`still.rs`), and costs nothing here.
     fn double_slide_cost(&self, f: usize, params: &ContactParams) -> f64 {
@@ -504,7 +505,7 @@ mod tests {
         let none = vec![None; 3];
         Problem::new(
             footing,
-            vec![DVec3::new(0.0, 0.0, 0.0); 3],
+            vec![DVec3::ZERO; 3],
             PerFoot::new(none.clone(), none),
             DT,
             false,
