@@ -21,6 +21,7 @@ import { TakePlots } from "./camera/plots.js";
 import { CORNER_NAMES, calibrateFromBoard, calibrateFromCorners } from "./camera/calibration.js";
 import { trackTake } from "./camera/track.js";
 import { messageOf } from "./camera/protocol.js";
+import { videoClock } from "./camera/clock.js";
 
 export { kindOf };
 
@@ -41,6 +42,18 @@ export { kindOf };
 
 /** @typedef {import("./camera/track.js").TrackResult} TrackResult */
 /** @typedef {import("./pkg-camera/embusen.js").PixelPoint} PixelPoint */
+
+/** @type {Promise<unknown> | null} */
+let styled = null;
+/** The panel's stylesheet (camera/camera.css), once per page; resolves when it is in. */
+function loadStyle() {
+  styled ??= new Promise((ok) => {
+    const link = Object.assign(document.createElement("link"), { rel: "stylesheet", href: new URL("./camera/camera.css", import.meta.url).href });
+    link.onload = link.onerror = ok; // without it the panel still works, unstyled
+    document.head.append(link);
+  });
+  return styled;
+}
 
 /** One mounted panel: its inputs, what it shows, and the track under way. */
 export class CameraPanel {
@@ -112,21 +125,32 @@ export class CameraPanel {
     if (missing.length > 0 && !busy) this.say(`to track, open also: ${missing.join(", ")}`);
   }
 
-  /** Opens one input; a video is put in the panel, its overlay following the frame shown. @param {Blob} blob @param {string} name @param {import("./camera/inputs.js").InputKind | null} kind */
+  /**
+   * Opens one input; a video is put in the panel, its overlay following the
+   * frame shown, and the player (`options.player`) following the video.
+   * @param {Blob} blob @param {string} name @param {import("./camera/inputs.js").InputKind | null} kind
+   */
   async add(blob, name, kind) {
     await this.inputs.add(blob, name, kind);
     if (kind !== "video" || !this.inputs.video) return;
     const video = this.inputs.video.element;
     this.outlines = [];
     video.controls = true;
+    const player = this.options.player;
     const follow = () => {
       void this.drawOverlay();
       this.paintPlots();
+      player?.wake();
       if (!video.paused) video.requestVideoFrameCallback(follow);
     };
-    video.addEventListener("seeked", follow);
-    video.addEventListener("play", follow);
+    for (const type of ["seeked", "play", "pause"]) video.addEventListener(type, follow);
     this.ui.videoBox.replaceChildren(video, this.ui.overlay);
+    if (!player) return;
+    // Beside the 3D view, on the player's clock.
+    player.element.classList.add("embusen-take");
+    player.element.append(this.ui.videoBox);
+    const offset = this.ui.offset;
+    player.followClock(videoClock(this.inputs.video, () => (Number.isFinite(+offset.value) ? +offset.value : 0)));
   }
 
   /** Opens files in any order, each recognised by its name; a bad one is reported, the rest kept. @param {FileList | File[]} files */
@@ -207,10 +231,13 @@ export class CameraPanel {
     if (!this.clicking || !this.inputs.video) return;
     const canvas = this.ui.overlay;
     const rect = canvas.getBoundingClientRect();
-    // Canvas coordinates to pixel centres (the pixel (0, 0)'s centre is at 0.5, 0.5 of the canvas).
+    // The picture fills the canvas's box but for bars either side (it is
+    // contained, as the video is); canvas coordinates to pixel centres (the
+    // pixel (0, 0)'s centre is at 0.5, 0.5 of the canvas).
+    const scale = Math.min(rect.width / canvas.width, rect.height / canvas.height);
     this.clicked.push({
-      x_px: (e.clientX - rect.left) * (canvas.width / rect.width) - 0.5,
-      y_px: (e.clientY - rect.top) * (canvas.height / rect.height) - 0.5,
+      x_px: (e.clientX - rect.left - (rect.width - canvas.width * scale) / 2) / scale - 0.5,
+      y_px: (e.clientY - rect.top - (rect.height - canvas.height * scale) / 2) / scale - 0.5,
     });
     void this.drawOverlay();
     if (this.clicked.length < 4) {
@@ -232,6 +259,12 @@ export class CameraPanel {
 
   destroy() {
     this.destroyed = true;
+    const player = this.options.player;
+    if (player && this.inputs.video) {
+      player.element.classList.remove("embusen-take");
+      this.ui.videoBox.remove();
+      player.followClock(null);
+    }
     this.cancel();
     this.run?.terminate();
     this.run = null;
@@ -301,6 +334,7 @@ async function openUrls(panel, options) {
  * @param {CameraOptions} [options]
  */
 export async function mountCameraTracking(element, options = {}) {
+  await loadStyle();
   const panel = new CameraPanel(element, options);
   wire(panel);
   await openUrls(panel, options);

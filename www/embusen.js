@@ -43,12 +43,23 @@ import init, { Player, options as playerOptions } from "./pkg/embusen.js";
  * @property {(take: CameraTakeView) => boolean} showCameraTake shows a camera-tracked take of the open
  *   recording in the 3D view; false when it cannot (the error box says why, and the view stays as it was)
  * @property {() => void} clearCameraTake back to the recording alone
+ * @property {(clock: Clock | null) => void} followClock shows the recording at `clock`'s instant, its controls
+ *   driving `clock` (`null`: back to the player's own), and measures the player's canvases again
+ * @property {() => void} wake redraws at once: for a clock that moved by itself
  * @property {CameraHandle} [camera] with `video`: the camera panel's handle (camera.js `mountCameraTracking`)
  * @property {() => void} destroy stops the player and releases its loop, observer, listeners and wasm memory,
  *   and the camera panel's video and workers
  */
 
 /** @typedef {Awaited<ReturnType<typeof import("./camera.js").mountCameraTracking>>} CameraHandle */
+
+/**
+ * A clock the player follows instead of its own: a take's video (camera/clock.js).
+ * @typedef {object} Clock
+ * @property {(player: Player) => void} agree puts the player at the clock's instant, or the clock at the player's
+ * @property {() => boolean} playing
+ * @property {(on: boolean) => void} setPlaying
+ */
 
 /**
  * A camera-tracked take of the open recording, as `Player.show_camera_take` takes it.
@@ -416,20 +427,29 @@ class AnimationLoop {
 
   /**
    * @param {Player} player
-   * @param {(frame: number) => void} show writes what changed on the page for `frame`
+   * @param {(frame: number, playing: boolean) => void} show writes what changed on the page for `frame`
    */
   constructor(player, show) {
     this.player = player;
     this.show = show;
   }
 
+  /** The clock followed, if any. @type {Clock | null} */
+  clock = null;
+
+  /** Whether the recording plays: the clock's, when followed. */
+  playing() {
+    return this.clock ? this.clock.playing() : this.player.playing();
+  }
+
   /** @param {number} now */
   #tick = (now) => {
     this.#request = 0;
-    this.player.tick((now - this.#last) / 1000);
+    this.clock?.agree(this.player);
+    this.player.tick(this.clock ? 0 : (now - this.#last) / 1000);
     this.#last = now;
-    this.show(this.player.frame());
-    this.#idleTicks = this.player.playing() ? 0 : this.#idleTicks + 1;
+    this.show(this.player.frame(), this.playing());
+    this.#idleTicks = this.playing() ? 0 : this.#idleTicks + 1;
     if (this.#idleTicks < 60) this.#request = requestAnimationFrame(this.#tick);
     else this.#idleTimer = window.setTimeout(() => {
       this.#idleTimer = 0;
@@ -644,12 +664,13 @@ function loadGuard(element, { loadingBox, legendBox }, { showError, refresh, wak
  * @param {HTMLButtonElement} playButton
  */
 function frameShower(element, player, slider, readout, playButton) {
-  return (/** @type {number} */ frame) => {
+  return (/** @type {number} */ frame, /** @type {boolean} */ playing) => {
     if (+slider.value !== frame) slider.value = String(frame);
     if (element.dataset.frame !== String(frame)) element.dataset.frame = String(frame);
     const said = `${player.time_s().toFixed(2)} s · frame ${frame} / ${Math.max(0, player.frame_count() - 1)}`;
     if (readout.textContent !== said) readout.textContent = said;
-    if (!player.playing() && playButton.textContent !== "▶") playButton.textContent = "▶";
+    const label = playing ? "❚❚" : "▶";
+    if (playButton.textContent !== label) playButton.textContent = label;
   };
 }
 
@@ -729,9 +750,16 @@ export async function mount(element, options = {}) {
   resizeObserver.observe(element);
   /** @param {boolean} on */
   const setPlaying = (on) => {
-    player.set_playing(on);
+    if (loop.clock) loop.clock.setPlaying(on);
+    else player.set_playing(on);
     wake();
-    playButton.textContent = on ? "❚❚" : "▶";
+  };
+  /** @param {Clock | null} clock */
+  const followClock = (clock) => {
+    if (destroyed) return;
+    player.set_playing(false); // the clock plays, or nothing does until asked
+    loop.clock = clock;
+    resize(); // the clock's owner may have laid the player out anew
   };
   wirePlayback(controlled, setPlaying);
   if (chrome === "full") wireFullControls(controlled, refresh);
@@ -774,7 +802,9 @@ export async function mount(element, options = {}) {
     loop.start(); // playback starts now, not when loading began
   })();
   /** @type {Handle} */
-  const handle = { player, element, open, openUrl, ready, destroy, showCameraTake: take.show, clearCameraTake: take.clear };
+  const handle = {
+    player, element, open, openUrl, ready, destroy, showCameraTake: take.show, clearCameraTake: take.clear, followClock, wake,
+  };
   /** @type {HTMLElement & {embusen?: Handle}} */ (element).embusen = handle;
   await ready;
   if (options.video && !destroyed) {

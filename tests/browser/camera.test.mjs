@@ -94,7 +94,7 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
   const outline = await page.evaluate(() => document.querySelector("#camera-panel").embusenCamera.outlineAt(100));
   assert.ok(outline.length > 200, `an outline of ${outline.length / 2} pixels over frame 100`);
   await page.evaluate(() => {
-    const v = document.querySelector("#camera-panel video");
+    const v = document.querySelector(".camera-video video");
     v.currentTime = 100.5 / 30;
     return new Promise((ok) => v.addEventListener("seeked", () => setTimeout(ok, 300), { once: true }));
   });
@@ -106,7 +106,7 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
       const panel = document.querySelector("#camera-panel");
       panel.querySelector('[data-show="outline"]').checked = false;
       await panel.embusenCamera.showLayers([name]);
-      const c = panel.querySelector(".camera-overlay");
+      const c = document.querySelector(".camera-overlay");
       const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
       // The layer's own pixels: the grid's lines are yellow, and thin.
       const painted = (i) => (name === "mask" ? d[i + 2] > 200 && d[i + 3] > 90 && d[i + 3] < 160
@@ -146,11 +146,29 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
   assert.ok(player.legend, `the player shows no camera take: ${player.error}`);
   mkdirSync(SCREENSHOTS, { recursive: true });
   await page.locator("#app").screenshot({ path: join(SCREENSHOTS, "camera-take-in-player.png") });
-  // Screenshots of the page with the take tracked, wide and narrow (to look at).
+  // The video and the 3D view side by side above the fold at 1280×800, one
+  // above the other at 390×844, each whole in the page's width. Screenshots
+  // of the page with the take tracked, wide and narrow (to look at).
+  const boxesOf = () => page.evaluate(() => ["#app .camera-video video", "#app canvas.view"].map((s) => {
+    const r = document.querySelector(s).getBoundingClientRect();
+    return { s, left: r.left, top: r.top + scrollY, right: r.right, bottom: r.bottom + scrollY, width: r.width, height: r.height };
+  }));
+  await page.evaluate(() => scrollTo(0, 0));
+  for (const b of await boxesOf()) {
+    assert.ok(b.left >= 0 && b.right <= 1280 && b.top >= 0 && b.bottom <= 800 && b.width > 400 && b.height > 200,
+      `at 1280×800 ${JSON.stringify(b)} is not whole above the fold`);
+  }
+  await page.screenshot({ path: join(SCREENSHOTS, "take-1280x800.png") });
   const panel = page.locator("#camera");
   await panel.scrollIntoViewIfNeeded();
   await page.screenshot({ path: join(SCREENSHOTS, "camera-1280x800.png") });
   await page.setViewportSize({ width: 390, height: 844 });
+  await page.waitForTimeout(300);
+  const [video, view] = await boxesOf();
+  for (const b of [video, view]) assert.ok(b.left >= 0 && b.right <= 390 && b.width > 300 && b.height > 150, `at 390×844 ${JSON.stringify(b)}`);
+  assert.ok(video.bottom <= view.top + 1, "at 390×844 the video is above the 3D view");
+  await page.evaluate(() => scrollTo(0, 0));
+  await page.screenshot({ path: join(SCREENSHOTS, "take-390x844.png"), fullPage: true });
   await panel.scrollIntoViewIfNeeded();
   await page.screenshot({ path: join(SCREENSHOTS, "camera-390x844.png") });
   assert.deepEqual(errors, []);
@@ -169,7 +187,7 @@ test("the paper's tracker in the page: the CLI's bytes, and its 25 candidates pe
     const panel = document.querySelector("#camera-panel");
     panel.querySelector('[data-setting="method"]').value = "paper";
     const r = await panel.embusenCamera.track();
-    const v = panel.querySelector("video");
+    const v = document.querySelector(".camera-video video");
     v.currentTime = 100.5 / 30;
     await new Promise((ok) => v.addEventListener("seeked", () => setTimeout(ok, 300), { once: true }));
     return { recording: r.recording, workers: r.workers, frame: panel.embusenCamera.candidatesAt(100),
@@ -240,7 +258,7 @@ test("four floor corners clicked on the video make embusen calibrate --floor-cor
   // A 150 × 100 cm rectangle at the world's origin, seen by the true camera.
   const corners = [[0, 0, 0], [150, 0, 0], [150, 0, 100], [0, 0, 100]].map((p) => project(truth, p));
   for (const [x, y] of corners) assert.ok(x > 0 && x < 639 && y > 0 && y < 479, `corner at ${x}, ${y} is in the picture`);
-  const overlay = page.locator("#camera-panel .camera-overlay");
+  const overlay = page.locator(".camera-overlay");
   await page.fill('#camera-panel [data-setting="rectangle"]', "150x100");
   const clickAll = async () => {
     await page.click('#camera-panel [data-action="click-corners"]');
@@ -250,9 +268,10 @@ test("four floor corners clicked on the video make embusen calibrate --floor-cor
       document.querySelector("#camera-panel").embusenCamera.nextCornersCalibration(),
       new Promise((ok) => setTimeout(() => ok({ error: "no calibration 20 s after the clicks" }), 20000)),
     ]));
-    for (const [x, y] of corners) {
-      await page.mouse.click(box.x + ((x + 0.5) * box.width) / 640, box.y + ((y + 0.5) * box.height) / 480);
-    }
+    // The picture is contained in the overlay's box, centred.
+    const scale = Math.min(box.width / 640, box.height / 480);
+    const [left, top] = [box.x + (box.width - 640 * scale) / 2, box.y + (box.height - 480 * scale) / 2];
+    for (const [x, y] of corners) await page.mouse.click(left + (x + 0.5) * scale, top + (y + 0.5) * scale);
     return done;
   };
   // A rectangle that is no size: a message, nothing calibrated.
@@ -347,10 +366,13 @@ test("without a background still the page tracks against the video's median, as 
   await page.close();
 });
 
-test("every frame of a clip is read as itself, by its pixels, in H.264 and VP9", async () => {
-  // 90 frames of 160×120 at 30 fps; frame i shows i in binary as 8 bars of
-  // 20 px (white 1, black 0) over a grey field.
-  const [w, h, n] = [160, 120, 90];
+/**
+ * Writes `name` in the scratch folder: `n` frames of 160×120 at `fps` whose
+ * frame i shows i in binary as 8 bars of 20 px (white 1, black 0), encoded
+ * with `codec` (ffmpeg's arguments).
+ */
+function countingClip(name, fps, n, codec) {
+  const [w, h] = [160, 120];
   const raw = Buffer.alloc(n * w * h * 1.5);
   for (let i = 0; i < n; i++) {
     const base = i * w * h * 1.5;
@@ -359,14 +381,18 @@ test("every frame of a clip is read as itself, by its pixels, in H.264 and VP9",
     }
     raw.fill(128, base + w * h, base + w * h * 1.5);
   }
-  writeFileSync(join(scratch, "count.yuv"), raw);
-  const encode = (name, codec) =>
-    execFileSync("ffmpeg", [
-      "-v", "error", "-y", "-f", "rawvideo", "-pix_fmt", "yuv420p", "-s", `${w}x${h}`, "-r", "30",
-      "-i", join(scratch, "count.yuv"), ...codec, join(scratch, name),
-    ]);
-  encode("count.mp4", ["-c:v", "libx264", "-g", "30", "-pix_fmt", "yuv420p"]);
-  encode("count.webm", ["-c:v", "libvpx-vp9", "-g", "30", "-b:v", "1M"]);
+  writeFileSync(join(scratch, `${name}.yuv`), raw);
+  execFileSync("ffmpeg", [
+    "-v", "error", "-y", "-f", "rawvideo", "-pix_fmt", "yuv420p", "-s", `${w}x${h}`, "-r", String(fps),
+    "-i", join(scratch, `${name}.yuv`), ...codec, join(scratch, name),
+  ]);
+}
+const H264 = ["-c:v", "libx264", "-g", "30", "-pix_fmt", "yuv420p"];
+
+test("every frame of a clip is read as itself, by its pixels, in H.264 and VP9", async () => {
+  const n = 90;
+  countingClip("count.mp4", 30, n, H264);
+  countingClip("count.webm", 30, n, ["-c:v", "libvpx-vp9", "-g", "30", "-b:v", "1M"]);
   for (const name of ["count.mp4", "count.webm"]) {
     const bytes = readFileSync(join(scratch, name)).toString("base64");
     pages[`/${name}.html`] = `<!doctype html><body><script type="module">
@@ -395,6 +421,102 @@ test("every frame of a clip is read as itself, by its pixels, in H.264 and VP9",
     assert.equal(done.read.length, n + 4);
     await page.close();
   }
+});
+
+test("one clock: the player and a take's video show the same instant, whichever is moved", async () => {
+  // A 60 fps clip whose frames say their number, under a 30 Hz recording
+  // (the demo's, re-timed): BVH frame f is video frame 2f.
+  countingClip("clock.mp4", 60, 180, H264);
+  pages["/clock.mp4"] = { type: "video/mp4", body: readFileSync(join(scratch, "clock.mp4")) };
+  const demo = await browser.newPage();
+  await demo.goto(`${server.url}/?autoplay=0`);
+  const bvh = await demo.evaluate(async () => {
+    const { player, ready } = document.querySelector("#app").embusen;
+    await ready;
+    return player.export_recording().text;
+  });
+  await demo.close();
+  pages["/clock.bvh"] = { type: "text/plain", body: bvh.replace(/Frame Time:\s*\S+/, "Frame Time: 0.0333333333") };
+  const { page, errors } = await openTake("video=/clock.mp4&src=/clock.bvh&autoplay=0");
+  await page.waitForFunction(() => {
+    const { player } = document.querySelector("#app").embusen;
+    return player.frame_count() > 100 && player.fps() < 31;
+  });
+  const playerFrame = () => page.evaluate(() => document.querySelector("#app").embusen.player.frame());
+  /** Seeks the player by its slider. */
+  const slideTo = (f) => page.evaluate((f) => {
+    const slider = document.querySelector("#app .slider");
+    slider.value = String(f);
+    slider.dispatchEvent(new Event("input", { bubbles: true }));
+  }, f);
+  /** Sets the offset field, gives the keys back to the page, and lets the player follow. */
+  const offsetOf = async (s) => {
+    const before = await playerFrame();
+    await page.fill("#camera-panel [data-setting=offset]", s);
+    await page.evaluate(() => document.activeElement.blur());
+    await page.waitForFunction((before) => document.querySelector("#app").embusen.player.frame() !== before, before);
+  };
+  /** The video frame on screen, read from its pixels once it has settled. */
+  const videoFrame = () => page.evaluate(async () => {
+    const video = document.querySelector(".camera-video video");
+    while (video.seeking || video.readyState < 2) await new Promise((ok) => setTimeout(ok, 10));
+    const canvas = Object.assign(document.createElement("canvas"), { width: 160, height: 120 });
+    const context = canvas.getContext("2d", { willReadFrequently: true });
+    context.drawImage(video, 0, 0, 160, 120);
+    const pixels = context.getImageData(0, 60, 160, 1).data;
+    let value = 0;
+    for (let bit = 0; bit < 8; bit++) value = value * 2 + (pixels[(bit * 20 + 10) * 4] > 128 ? 1 : 0);
+    return value;
+  });
+  /** Waits (up to 5 s) for the video to show `expected`; gives back what it shows. */
+  const videoSettlesOn = async (expected) => {
+    let shown = await videoFrame();
+    for (let tries = 0; shown !== expected && tries < 50; tries++) {
+      await page.waitForTimeout(100);
+      shown = await videoFrame();
+    }
+    return shown;
+  };
+  // The player moved (its slider, its keys): the video follows.
+  for (const f of [17, 40, 0, 89]) {
+    await slideTo(f);
+    assert.equal(await videoSettlesOn(2 * f), 2 * f, `the player at frame ${f}`);
+    assert.equal(await playerFrame(), f, "the player stays where it was put");
+  }
+  await page.keyboard.press("ArrowLeft");
+  assert.equal(await videoSettlesOn(176), 176, "a step back in the player");
+  // The offset moves the recording's instant against the video's.
+  await offsetOf("0.5");
+  await page.keyboard.press("Home");
+  await page.keyboard.press("ArrowRight");
+  assert.equal(await videoSettlesOn(0), 0, "frame 1 is before the video starts: its first frame");
+  await slideTo(40);
+  assert.equal(await videoSettlesOn(50), 50, "frame 40 is 1.333 s, 0.833 s into the video");
+  await offsetOf("0");
+  await slideTo(40);
+  assert.equal(await videoSettlesOn(80), 80);
+  const before = await playerFrame();
+  // The player's play button plays the video, and the player follows it.
+  await page.click("#app [data-action=play]");
+  await page.waitForFunction(() => !document.querySelector(".camera-video video").paused);
+  assert.equal(await page.textContent("#app [data-action=play]"), "❚❚");
+  await page.waitForTimeout(1000);
+  const during = await playerFrame();
+  assert.ok(during >= before + 15, `the player follows the video as it plays (frame ${before}, then ${during})`);
+  await page.click("#app [data-action=play]");
+  await page.waitForFunction(() => document.querySelector(".camera-video video").paused);
+  await page.waitForTimeout(300);
+  const [shown, followed] = [await videoFrame(), await playerFrame()];
+  assert.ok(Math.abs(shown / 60 - followed / 30) <= 1 / 60 + 1e-9,
+    `the video at frame ${shown} (${(shown / 60).toFixed(3)} s), the player at frame ${followed} (${(followed / 30).toFixed(3)} s)`);
+  assert.equal(await page.textContent("#app [data-action=play]"), "▶");
+  // The video seeked by itself (its own controls): the player follows.
+  await page.evaluate(() => (document.querySelector(".camera-video video").currentTime = 120.5 / 60));
+  await page.waitForFunction(() => document.querySelector("#app").embusen.player.frame() === 60);
+  assert.equal(await videoFrame(), 120);
+  assert.deepEqual(errors, []);
+  await page.screenshot({ path: join(SCREENSHOTS, "one-clock.png") });
+  await page.close();
 });
 
 test("bad input is a message in the page, and what was open stays open", async (t) => {

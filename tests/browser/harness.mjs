@@ -21,13 +21,17 @@ const TYPES = {
   ".wasm": "application/wasm", ".bvh": "text/plain", ".csv": "text/csv", ".png": "image/png",
 };
 
-/** Serves dist/ at /, ../shared/data at /data/, and `extra` pages by path. */
+/**
+ * Serves dist/ at /, ../shared/data at /data/, and `extra` by path: an HTML
+ * page as a string, any other file as `{ type, body }`.
+ */
 export async function startServer(extra = {}) {
   const server = createServer(async (req, res) => {
     const path = decodeURIComponent(new URL(req.url, "http://x").pathname);
     if (extra[path]) {
-      res.writeHead(200, { "content-type": "text/html" });
-      res.end(extra[path]);
+      const { type, body } = typeof extra[path] === "string" ? { type: "text/html", body: extra[path] } : extra[path];
+      res.writeHead(200, { "content-type": type });
+      res.end(body);
       return;
     }
     const [base, rest] = path.startsWith("/data/")
