@@ -232,6 +232,7 @@ fn track_writes_a_bvh_and_a_row_per_frame_and_refuses_bad_input() {
     let app = app_tracks(&video, &bvh, &camera, &background);
     assert!(app.0 == std::fs::read_to_string(&out).unwrap(), "the app's corrected BVH is not the CLI's");
     assert!(app.1 == csv, "the app's hips CSV is not the CLI's");
+    a_finished_take_opens_as_tracked(&out, &bvh, &camera, &csv, &app.2);
 
     let refused = |(ok, said): (bool, String), expected: &str| {
         assert!(
@@ -262,7 +263,12 @@ fn track_writes_a_bvh_and_a_row_per_frame_and_refuses_bad_input() {
 /// `app::tracking::TrackingJob` on a video whose frames come as luma planes
 /// (ffmpeg's raw yuv420p, the planes a browser's decoder gives), the
 /// default method: the corrected recording and the hips CSV.
-fn app_tracks(video: &Path, bvh: &Path, camera: &Path, background: &Path) -> (String, String) {
+fn app_tracks(
+    video: &Path,
+    bvh: &Path,
+    camera: &Path,
+    background: &Path,
+) -> (String, String, Vec<Vec<[u32; 2]>>) {
     use embusen::app::tracking::{NamedBytes, TrackingJob, VideoDescription};
     use embusen::io::video::Ffmpeg;
     let info = Ffmpeg::default().probe(video).unwrap();
@@ -356,7 +362,73 @@ fn app_tracks(video: &Path, bvh: &Path, camera: &Path, background: &Path) -> (St
     assert_eq!(per_frame.len(), info.frame_count);
     assert!(figures.mean_cm < 10.0, "{figures:?}");
     assert!(job.against_truth(NamedBytes { name: "bad.csv", bytes: b"time_s,x\n1,2\n" }).is_err());
-    (export.recording_text, export.track_csv)
+    (export.recording_text, export.track_csv, outlines)
+}
+
+/// `app::finished_take::FinishedTake` on walk's corrected recording and
+/// track CSV (`tracked`, `csv`), as the page opens a take tracked before:
+/// the outlines over the video are the tracking job's (`outlines`), the
+/// plots' figures the CSV's; files that are not one take's are refused,
+/// saying which.
+fn a_finished_take_opens_as_tracked(
+    tracked: &Path,
+    suit: &Path,
+    camera: &Path,
+    csv: &str,
+    outlines: &[Vec<[u32; 2]>],
+) {
+    use embusen::app::finished_take::FinishedTake;
+    use embusen::app::tracking::{NamedBytes, VideoDescription};
+    use std::collections::HashSet;
+    let video = VideoDescription { width_px: 640, height_px: 480, fps: 30.0, frame_count: 195 };
+    let (tracked_bytes, suit_bytes, camera_bytes) =
+        (std::fs::read(tracked).unwrap(), std::fs::read(suit).unwrap(), std::fs::read(camera).unwrap());
+    let open = |recording: &[u8], camera: &[u8], csv: &str, video: VideoDescription| {
+        FinishedTake::open(
+            NamedBytes { name: "walk.tracked.bvh", bytes: recording },
+            NamedBytes { name: "walk.camera.json", bytes: camera },
+            NamedBytes { name: "walk.tracked.track.csv", bytes: csv.as_bytes() },
+            "walk.mp4",
+            video,
+            0.0,
+        )
+    };
+    let take = open(&tracked_bytes, &camera_bytes, csv, video).unwrap();
+    assert_eq!(take.path.len(), 195);
+    assert_eq!(take.tracked_hips_cm.len(), 195);
+    let row_100: Vec<&str> = csv.lines().nth(101).unwrap().split(',').collect();
+    assert_eq!(format!("{:.3}", take.path[100].confidence), row_100[5]);
+    assert_eq!(format!("{:.4}", take.path[100].floor_cm.x), row_100[2]);
+    // The CSV holds the track to 0.1 mm: the outlines are the job's, but
+    // for a pixel here and there.
+    assert_eq!(take.outlines_px.len(), outlines.len());
+    for (i, (opened, tracked)) in take.outlines_px.iter().zip(outlines).enumerate() {
+        let tracked: HashSet<_> = tracked.iter().collect();
+        let shared = opened.iter().filter(|p| tracked.contains(p)).count();
+        assert!(
+            shared * 100 >= 98 * tracked.len().max(opened.len()),
+            "frame {i}: {shared} of {} pixels",
+            tracked.len()
+        );
+    }
+    let refused = |result: Result<FinishedTake, embusen::error::Error>, expected: &str| {
+        let said = result.unwrap_err().to_string();
+        assert!(said.contains(expected), "{said}");
+    };
+    // The suit's own recording, not the one the track corrected.
+    refused(open(&suit_bytes, &camera_bytes, csv, video), "walk.tracked.bvh: its hips are");
+    // A track with a row too few, or of a video at another rate.
+    let short: String = csv.lines().take(195).map(|l| format!("{l}\n")).collect();
+    refused(open(&tracked_bytes, &camera_bytes, &short, video), "has 194 rows, walk.mp4 195 frames");
+    let faster = VideoDescription { fps: 60.0, ..video };
+    refused(
+        open(&tracked_bytes, &camera_bytes, csv, faster),
+        "walk.tracked.track.csv:3:1: the row of frame 1",
+    );
+    // A camera for another image size; a track that is not a hips CSV.
+    let small = String::from_utf8(camera_bytes.clone()).unwrap().replace("\"width\": 640", "\"width\": 320");
+    refused(open(&tracked_bytes, small.as_bytes(), csv, video), "320");
+    refused(open(&tracked_bytes, &camera_bytes, "frame,x\n0,1\n", video), "walk.tracked.track.csv:1:1");
 }
 
 /// A colour-less video (the same take made grey with ffmpeg) is tracked as

@@ -227,7 +227,7 @@ fn without_a_recording_results_are_errors() {
 #[wasm_bindgen_test]
 fn the_camera_boundary_refuses_unknown_fields_and_values() {
     use embusen::web::camera_view::calibrate_floor_corners;
-    use embusen::web::tracking::CameraJob;
+    use embusen::web::tracking::{CameraJob, FinishedTakeView};
     let corners = r#"{"width_px": 640, "height_px": 480, "corners": [{"x_px": 1, "y_px": 2}], "width_cm": 200,
         "depth_cm": 150, "focal_px": null"#;
     let refused =
@@ -242,12 +242,16 @@ fn the_camera_boundary_refuses_unknown_fields_and_values() {
     };
     let video = r#"{"name": "v.mp4", "width_px": 2, "height_px": 2, "fps": 30, "frame_count": 1}"#;
     // Bytes cross as a Uint8Array (JSON has none: put in after parsing).
-    let open = |json: String| {
+    let with_bytes = |json: String, files: [&str; 3]| {
         let options = js(&json);
-        for file in ["recording", "camera", "background"] {
+        for file in files {
             let file = js_sys::Reflect::get(&options, &file.into()).unwrap();
             js_sys::Reflect::set(&file, &"bytes".into(), &js_sys::Uint8Array::new_with_length(0)).unwrap();
         }
+        options
+    };
+    let open = |json: String| {
+        let options = with_bytes(json, ["recording", "camera", "background"]);
         CameraJob::new(Ts::new_unchecked(options)).err().map(error_message).unwrap_or_default()
     };
     assert!(
@@ -260,4 +264,18 @@ fn the_camera_boundary_refuses_unknown_fields_and_values() {
         "{}",
         open(take(&typo, "fused"))
     );
+    // A take tracked before, to be shown as it is: the same refusals.
+    let finished = |json: String| {
+        let options = with_bytes(json, ["recording", "camera", "track"]);
+        FinishedTakeView::new(Ts::new_unchecked(options)).err().map(error_message).unwrap_or_default()
+    };
+    let shown = |video: &str, extra: &str| {
+        format!(
+            r#"{{"recording": {file}, "camera": {file}, "track": {file}, "video": {video}, "offset_s": 0{extra}}}"#
+        )
+    };
+    assert!(finished(shown(video, ", \"method\": \"fused\"")).contains("unknown field `method`"));
+    assert!(finished(shown(&typo, "")).contains("the take's video: unknown field `fsp`"));
+    let said = finished(shown(&video.replace("\"fps\": 30", "\"fps\": 0"), ""));
+    assert!(said.contains("v.mp4: 1 frames at 0 fps: not a video"), "{said}");
 }

@@ -19,7 +19,7 @@ import { TakeInputs, kindOf, stemOf } from "./camera/inputs.js";
 import { VideoOverlay } from "./camera/overlay.js";
 import { TakePlots } from "./camera/plots.js";
 import { CORNER_NAMES, calibrateFromBoard, calibrateFromCorners } from "./camera/calibration.js";
-import { trackTake } from "./camera/track.js";
+import { showFinishedTake, trackTake } from "./camera/track.js";
 import { messageOf } from "./camera/protocol.js";
 import { videoClock } from "./camera/clock.js";
 
@@ -33,6 +33,9 @@ export { kindOf };
  * @property {string} [background] the background still's URL
  * @property {string} [board] a still of the ChArUco board on the floor (its layout BOARD.json beside it)
  * @property {string} [truth] the true hips per video frame (CSV), to plot the track's error against
+ * @property {string} [track] a track `embusen track` wrote (NAME.track.csv), `src` the BVH it wrote with it:
+ *   the take is shown as tracked, with no tracking
+ * @property {boolean} [autotrack] tracks on opening when the take's inputs are there (not with `track`)
  * @property {"fused" | "paper"} [method]
  * @property {number} [offsetS] the time offset between video and BVH (s), as `embusen track --offset-s`
  * @property {boolean} [estimateOffset] estimate the offset after tracking, as `embusen track --estimate-offset`
@@ -166,6 +169,10 @@ export class CameraPanel {
     this.result = null;
     this.showInputs();
     if (problems.length > 0) this.say(problems.join("; "), true);
+    // A track shows once the take it was tracked from is open with it.
+    else if (this.inputs.track && Array.from(files).some((f) => ["track", "video", "recording", "json"].includes(kindOf(f) ?? ""))) {
+      await this.showFinished();
+    }
   }
 
   /** @param {string} url @param {import("./camera/inputs.js").InputKind} kind */
@@ -173,6 +180,21 @@ export class CameraPanel {
     const response = await fetch(url);
     if (!response.ok) throw new Error(`${url}: ${response.status} ${response.statusText}`);
     await this.add(await response.blob(), url.split("/").pop() || url, kind);
+  }
+
+  /**
+   * Opened with a track and everything it was tracked from but the still:
+   * shows it as tracked (./camera/track.js); a track that is not this
+   * take's is said in the status line.
+   */
+  async showFinished() {
+    const { video, recording, camera, track } = this.inputs;
+    if (!video || !recording || !camera || !track || this.run) return;
+    try {
+      await showFinishedTake(this);
+    } catch (e) {
+      this.say(messageOf(e), true);
+    }
   }
 
   /** Reports a failure in the status line, and passes it on. @param {unknown} e @returns {never} */
@@ -322,7 +344,7 @@ function wire(panel) {
 async function openUrls(panel, options) {
   /** @type {Array<[string | undefined, import("./camera/inputs.js").InputKind]>} */
   const given = [[options.video, "video"], [options.src, "recording"], [options.camera, "camera"],
-    [options.background, "background"], [options.board, "board"], [options.truth, "truth"],
+    [options.background, "background"], [options.board, "board"], [options.truth, "truth"], [options.track, "track"],
     // A board's layout lies beside its still, as for `embusen calibrate`.
     [options.board?.replace(/\.png$/i, ".json"), "boardLayout"]];
   await Promise.all(given.map(([url, kind]) => url && panel.openUrl(url, kind).catch((e) => panel.say(e.message, true))));
@@ -339,6 +361,8 @@ export async function mountCameraTracking(element, options = {}) {
   wire(panel);
   await openUrls(panel, options);
   panel.showInputs();
+  if (options.track) await panel.showFinished();
+  else if (options.autotrack && panel.inputs.missing().length === 0) void panel.track().catch(() => {});
   const handle = {
     element,
     open: (/** @type {FileList | File[]} */ files) => panel.open(files),

@@ -30,6 +30,8 @@ import init, { Player, options as playerOptions } from "./pkg/embusen.js";
  * @property {string} [background] with `video`: the background still's URL
  * @property {string} [board] with `video`: a still of the ChArUco board (its BOARD.json beside it)
  * @property {string} [truth] with `video`: the true hips per video frame (CSV)
+ * @property {string} [track] with `video`: its track CSV (`src` the BVH tracked with it), shown with no tracking
+ * @property {boolean} [autotrack] with `video`: track on opening
  * @property {"fused" | "paper"} [method] with `video`: the camera tracker
  */
 
@@ -607,8 +609,8 @@ function loaders(player, guarded, showError) {
  */
 async function mountCamera(host, options, handle, destroyed) {
   const { mountCameraTracking } = await import("./camera.js");
-  const { video, src, camera, background, board, truth, method } = options;
-  const panel = await mountCameraTracking(host, { video, src, camera, background, board, truth, method, player: handle });
+  const { video, src, camera, background, board, truth, method, track, autotrack } = options;
+  const panel = await mountCameraTracking(host, { video, src, camera, background, board, truth, method, track, autotrack, player: handle });
   if (!destroyed()) return (handle.camera = panel);
   panel.destroy();
   return null;

@@ -10,7 +10,7 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::body::shape::BodyShape;
+use crate::body::shape::{BodyShape, PosedBody};
 use crate::camera::Camera;
 use crate::error::Error;
 use crate::eval::track::{TrackErrors, frame_errors_cm, track_errors};
@@ -408,23 +408,34 @@ impl TrackingJob {
     /// What the page draws over the video to show how the track fits.
     pub fn outlines_px(&self) -> Vec<Vec<[u32; 2]>> {
         let Some(track) = &self.track else { return Vec::new() };
+        let floor_cm: Vec<DVec2> = track.frames.iter().map(|frame| frame.floor_cm).collect();
         let setup = &self.take.setup;
-        let mut renderer = SilhouetteRenderer::new(&setup.camera);
-        track
-            .frames
-            .iter()
-            .enumerate()
-            .map(|(i, frame)| {
-                let Ok(Some(body)) = setup.posed_body(i) else { return Vec::new() };
-                renderer.render(&body, DVec3::new(frame.floor_cm.x, 0.0, frame.floor_cm.y)).contour()
-            })
-            .collect()
+        outlines_px(&setup.camera, &floor_cm, |i| setup.posed_body(i))
     }
+}
+
+/// Per video frame `i`, the outer contour of `posed(i)` (a body model
+/// standing at the floor's origin) moved to `floor_cm[i]` (x, z), as
+/// `camera` sees it: pixels `[x, y]`, none in a frame without a pose.
+pub(crate) fn outlines_px(
+    camera: &Camera,
+    floor_cm: &[DVec2],
+    posed: impl Fn(usize) -> Result<Option<PosedBody>, Error>,
+) -> Vec<Vec<[u32; 2]>> {
+    let mut renderer = SilhouetteRenderer::new(camera);
+    floor_cm
+        .iter()
+        .enumerate()
+        .map(|(i, floor)| {
+            let Ok(Some(body)) = posed(i) else { return Vec::new() };
+            renderer.render(&body, DVec3::new(floor.x, 0.0, floor.y)).contour()
+        })
+        .collect()
 }
 
 /// An error when `video` (named `video_name`) has no frames or no rate, or
 /// `offset_s` is not a time.
-fn check_video(video_name: &str, video: &VideoDescription, offset_s: f64) -> Result<(), Error> {
+pub(crate) fn check_video(video_name: &str, video: &VideoDescription, offset_s: f64) -> Result<(), Error> {
     if video.frame_count == 0 || !(video.fps.is_finite() && video.fps > 0.0) {
         return Err(Error::whole(
             video_name,

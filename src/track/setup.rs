@@ -12,6 +12,18 @@ use crate::image::GreyImage;
 use crate::image::pipeline::{Features, PipelineParams, features};
 use crate::track::suit_motion::{SuitMotion, VideoTiming};
 
+/// `shape` in `suit`'s pose at video frame `i` (its time through `timing`),
+/// standing at the floor's origin; `None` where the BVH has no pose.
+pub fn posed_body(
+    suit: &SuitMotion,
+    shape: &BodyShape,
+    timing: &VideoTiming,
+    i: usize,
+) -> Result<Option<PosedBody>, Error> {
+    let instant = suit.instant(timing.bvh_time_s(i));
+    suit.body_at(instant).map(|body_cm| shape.pose(&body_cm, DVec3::ZERO)).transpose()
+}
+
 /// What the tracker needs besides the frames.
 #[derive(Clone, Debug)]
 pub struct TrackSetup {
@@ -28,8 +40,7 @@ impl TrackSetup {
     /// through `timing`), standing at the floor's origin; `None` where the
     /// BVH has no pose.
     pub fn posed_body(&self, i: usize) -> Result<Option<PosedBody>, Error> {
-        let instant = self.suit.instant(self.timing.bvh_time_s(i));
-        self.suit.body_at(instant).map(|body_cm| self.shape.pose(&body_cm, DVec3::ZERO)).transpose()
+        posed_body(&self.suit, &self.shape, &self.timing, i)
     }
 
     /// `frame`'s features against the background, its distance transforms

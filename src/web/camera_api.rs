@@ -14,7 +14,7 @@ use tsify::{Ts, Tsify};
 use wasm_bindgen::{JsCast, JsValue};
 
 use crate::app::frame_layers::Layer;
-use crate::app::tracking::{NamedBytes, PaperCandidates};
+use crate::app::tracking::{NamedBytes, PaperCandidates, VideoDescription};
 use crate::track::fused::FusedParams;
 use crate::track::offset::OffsetEstimate;
 use crate::track::path::PathRequest;
@@ -103,6 +103,17 @@ pub struct VideoFacts {
     pub frame_count: usize,
 }
 
+impl From<&VideoFacts> for VideoDescription {
+    fn from(v: &VideoFacts) -> VideoDescription {
+        VideoDescription {
+            width_px: v.width_px,
+            height_px: v.height_px,
+            fps: v.fps,
+            frame_count: v.frame_count,
+        }
+    }
+}
+
 /// Everything a take is tracked from, as `embusen track` takes it.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, Tsify)]
 #[serde(deny_unknown_fields)]
@@ -123,13 +134,44 @@ impl TakeOptions {
     /// The options from the page's object; an unknown field or value is an
     /// error that names it.
     pub fn from_js(value: Ts<TakeOptions>) -> Result<TakeOptions, String> {
-        let value = value.js_value();
-        for file in ["recording", "camera", "background"] {
-            refuse_unknown_fields::<NamedFile>(&field(&value, file), &format!("the take's {file}"))?;
-        }
-        refuse_unknown_fields::<VideoFacts>(&field(&value, "video"), "the take's video")?;
-        read(value, "the take")
+        read_take(value.js_value(), &["recording", "camera", "background"])
     }
+}
+
+/// A take tracked before, to be shown as it is (`FinishedTakeView`): the
+/// corrected recording and the track CSV `embusen track` wrote, the camera,
+/// the video they were tracked from, and the offset they were tracked at.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, Tsify)]
+#[serde(deny_unknown_fields)]
+pub struct FinishedTakeOptions {
+    /// The corrected recording (BVH).
+    pub recording: NamedFile,
+    /// camera.json.
+    pub camera: NamedFile,
+    /// The track CSV, a row per video frame.
+    pub track: NamedFile,
+    pub video: VideoFacts,
+    /// Added to a video frame's time to read the BVH (s), as `--offset-s`.
+    pub offset_s: f64,
+}
+
+impl FinishedTakeOptions {
+    /// The options from the page's object; an unknown field or value is an
+    /// error that names it.
+    pub fn from_js(value: Ts<FinishedTakeOptions>) -> Result<FinishedTakeOptions, String> {
+        read_take(value.js_value(), &["recording", "camera", "track"])
+    }
+}
+
+/// A take's options from the page's object: its `files` and its video
+/// looked at first, so that an unknown field in one of them is named where
+/// it is.
+fn read_take<T: DeserializeOwned>(value: JsValue, files: &[&str]) -> Result<T, String> {
+    for file in files {
+        refuse_unknown_fields::<NamedFile>(&field(&value, file), &format!("the take's {file}"))?;
+    }
+    refuse_unknown_fields::<VideoFacts>(&field(&value, "video"), "the take's video")?;
+    read(value, "the take")
 }
 
 /// A point on the floor (x, z, cm: the world's Y is up).

@@ -8,11 +8,18 @@
 use tsify::{Ts, Tsify};
 use wasm_bindgen::prelude::*;
 
-use crate::app::tracking::{TrackingJob, VideoDescription};
+use crate::app::finished_take::FinishedTake;
+use crate::app::tracking::TrackingJob;
 use crate::web::camera_api::{
-    FrameCandidates, FrameProgress, NamedFile, OffsetFound, PathWork, TakeFiles, TakeOptions, TruthErrors,
-    read,
+    FinishedTakeOptions, FrameCandidates, FrameProgress, NamedFile, OffsetFound, PathWork, TakeFiles,
+    TakeOptions, TruthErrors, read,
 };
+
+/// Per frame the outline's pixels as `x, y` pixel after pixel, as the page
+/// draws them over the video.
+fn outlines_js(outlines: &[Vec<[u32; 2]>]) -> Vec<js_sys::Uint32Array> {
+    outlines.iter().map(|outline| js_sys::Uint32Array::from(outline.as_flattened())).collect()
+}
 
 /// One take being tracked in the page.
 #[wasm_bindgen]
@@ -38,12 +45,7 @@ impl CameraJob {
             o.camera.named_bytes(),
             o.background.named_bytes(),
             &v.name,
-            VideoDescription {
-                width_px: v.width_px,
-                height_px: v.height_px,
-                fps: v.fps,
-                frame_count: v.frame_count,
-            },
+            v.into(),
             o.method.track_method(),
             o.offset_s,
         )
@@ -120,11 +122,7 @@ impl CameraJob {
     /// The body's outline over each video frame where the finished track
     /// puts it: per frame its pixels, `x, y` pixel after pixel.
     pub fn outlines_px(&self) -> Vec<js_sys::Uint32Array> {
-        self.job
-            .outlines_px()
-            .iter()
-            .map(|outline| js_sys::Uint32Array::from(outline.as_flattened()))
-            .collect()
+        outlines_js(&self.job.outlines_px())
     }
 
     /// The finished track against the true hips of a CSV (the shared
@@ -166,5 +164,52 @@ impl CameraJob {
     pub fn paper_candidates(&self) -> Result<Vec<Ts<FrameCandidates>>, JsError> {
         let frames = self.job.paper_candidates().into_iter().map(|c| FrameCandidates::from(c).into_ts());
         Ok(frames.collect::<Result<_, _>>()?)
+    }
+}
+
+/// A take tracked before, opened to be shown as it is, with no tracking
+/// ([`FinishedTake`]): what the page shows after a track.
+#[wasm_bindgen]
+pub struct FinishedTakeView {
+    take: FinishedTake,
+}
+
+#[wasm_bindgen]
+impl FinishedTakeView {
+    /// Opens the take; the error names the file or field at fault, or says
+    /// which file is not this take's.
+    #[wasm_bindgen(constructor)]
+    pub fn new(options: Ts<FinishedTakeOptions>) -> Result<FinishedTakeView, JsError> {
+        let o = FinishedTakeOptions::from_js(options).map_err(js_error)?;
+        let take = FinishedTake::open(
+            o.recording.named_bytes(),
+            o.camera.named_bytes(),
+            o.track.named_bytes(),
+            &o.video.name,
+            (&o.video).into(),
+            o.offset_s,
+        )
+        .map_err(js_error)?;
+        Ok(FinishedTakeView { take })
+    }
+
+    /// Per video frame, where the track put the hips and how well the
+    /// camera saw the body, as the tracker reported them while it ran.
+    pub fn path(&self) -> Result<Vec<Ts<FrameProgress>>, JsError> {
+        let frames = self.take.path.iter().map(|p| {
+            FrameProgress { frame: p.frame, floor: p.floor_cm.into(), confidence: p.confidence }.into_ts()
+        });
+        Ok(frames.collect::<Result<_, _>>()?)
+    }
+
+    /// The body's outline over each video frame where the track put it.
+    pub fn outlines_px(&self) -> Vec<js_sys::Uint32Array> {
+        outlines_js(&self.take.outlines_px)
+    }
+
+    /// The recording's hips in each of its frames, for
+    /// `Player.show_camera_take`: x, y, z (cm) frame after frame.
+    pub fn tracked_hips_cm(&self) -> Vec<f64> {
+        self.take.tracked_hips_cm.iter().flat_map(|p| [p.x, p.y, p.z]).collect()
     }
 }

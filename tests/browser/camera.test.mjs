@@ -303,6 +303,74 @@ test("four floor corners clicked on the video make embusen calibrate --floor-cor
   await page.close();
 });
 
+test("a take tracked before opens as it is, with no worker; autotrack=1 tracks on opening", async (t) => {
+  if (skipWithoutData(t)) return;
+  const out = join(scratch, "finished", "walk.tracked.bvh");
+  mkdirSync(join(scratch, "finished"), { recursive: true });
+  trackWalkWithCli(out);
+  pages["/take/walk.tracked.bvh"] = { type: "text/plain", body: readFileSync(out) };
+  pages["/take/walk.tracked.track.csv"] = { type: "text/csv", body: readFileSync(out.replace(/\.bvh$/, ".track.csv")) };
+  /** Opens the page at `query`, counting the Web Workers it starts. */
+  const openCounting = async (query) => {
+    const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+    const errors = [];
+    page.on("pageerror", (e) => errors.push(String(e)));
+    await page.addInitScript(() => {
+      window.workersStarted = 0;
+      const Native = window.Worker;
+      window.Worker = class extends Native {
+        constructor(...args) {
+          super(...args);
+          window.workersStarted++;
+        }
+      };
+    });
+    await page.goto(`${server.url}/?autoplay=0&${query}`);
+    return { page, errors };
+  };
+  const status = (page) => page.textContent("#camera-panel .camera-status");
+  const scene = "video=/data/optical/walk.mp4&camera=/data/optical/walk.camera.json";
+  const { page, errors } = await openCounting(`${scene}&src=/take/walk.tracked.bvh&track=/take/walk.tracked.track.csv`);
+  await page.waitForFunction(() => /tracked before/.test(document.querySelector("#camera-panel .camera-status")?.textContent ?? ""),
+    null, { timeout: 60000 });
+  assert.match(await status(page), /walk\.tracked\.track\.csv: 195 frames tracked before, shown as they are/);
+  // The outline over frames 0, 100 and 190 is on the actor: it surrounds
+  // the true hips seen by the true camera.
+  const camera = JSON.parse(readFileSync(join(DATA, "optical/walk.camera.json"), "utf8"));
+  const truth = readFileSync(join(DATA, "optical/walk.truth.csv"), "utf8").trim().split("\n").slice(1)
+    .map((row) => row.split(",").slice(1, 4).map(Number));
+  for (const i of [0, 100, 190]) {
+    const outline = await page.evaluate((i) => document.querySelector("#camera-panel").embusenCamera.outlineAt(i), i);
+    const [xs, ys] = [outline.filter((_, k) => k % 2 === 0), outline.filter((_, k) => k % 2 === 1)];
+    const [x, y] = project(camera, truth[i]);
+    assert.ok(outline.length > 200 && Math.min(...xs) < x && x < Math.max(...xs) && Math.min(...ys) < y && y < Math.max(...ys),
+      `frame ${i}: the true hips at ${x.toFixed(0)}, ${y.toFixed(0)} px, the outline over ${Math.min(...xs)}–${Math.max(...xs)}, ${Math.min(...ys)}–${Math.max(...ys)}`);
+  }
+  // The player shows the take: its recording, the camera track's legend.
+  const player = await page.evaluate(() => {
+    const app = document.querySelector("#app");
+    return { name: app.embusen.player.info().name, legend: !app.querySelector(".legend").hidden };
+  });
+  assert.deepEqual(player, { name: "walk.tracked.bvh", legend: true });
+  assert.equal(await page.evaluate(() => window.workersStarted), 0, "no worker started: nothing was tracked");
+  await page.screenshot({ path: join(SCREENSHOTS, "finished-take.png") });
+  assert.deepEqual(errors, []);
+  await page.close();
+  // The suit's own recording with that track: not one take; said, nothing shown.
+  const wrong = await openCounting(`${scene}&src=/data/optical/walk.suit.bvh&track=/take/walk.tracked.track.csv`);
+  await wrong.page.waitForFunction(() => document.querySelector("#camera-panel .camera-status.error"), null, { timeout: 60000 });
+  assert.match(await status(wrong.page), /walk\.suit\.bvh: its hips are [\d.]+ cm from walk\.tracked\.track\.csv's at video frame \d+: it is not the recording this track corrected/);
+  assert.equal(await wrong.page.evaluate(() => document.querySelector("#camera-panel").embusenCamera.outlineAt(100).length), 0);
+  await wrong.page.close();
+  // autotrack=1 with everything a track needs: tracked on opening.
+  const auto = await openCounting(`${scene}&src=/data/optical/walk.suit.bvh&background=/data/optical/walk.background.png&autotrack=1`);
+  await auto.page.waitForFunction(() => /195 frames tracked/.test(document.querySelector("#camera-panel .camera-status")?.textContent ?? ""),
+    null, { timeout: 120000 });
+  assert.ok((await auto.page.evaluate(() => window.workersStarted)) > 0);
+  assert.deepEqual(auto.errors, []);
+  await auto.page.close();
+});
+
 test("mount() takes a video: two players on a page, destroy() lets go of the video and the workers", async (t) => {
   if (skipWithoutData(t)) return;
   pages["/two-players.html"] = `<!doctype html><html><head><link rel="stylesheet" href="/style.css"></head><body>
@@ -499,7 +567,7 @@ test("one clock: the player and a take's video show the same instant, whichever 
   // The player's play button plays the video, and the player follows it.
   await page.click("#app [data-action=play]");
   await page.waitForFunction(() => !document.querySelector(".camera-video video").paused);
-  assert.equal(await page.textContent("#app [data-action=play]"), "❚❚");
+  await page.waitForFunction(() => document.querySelector("#app [data-action=play]").textContent === "❚❚");
   await page.waitForTimeout(1000);
   const during = await playerFrame();
   assert.ok(during >= before + 15, `the player follows the video as it plays (frame ${before}, then ${during})`);
@@ -612,15 +680,23 @@ test("a camera calibrated from board.png in the page stands where the true one d
   execFileSync("ffmpeg", ["-v", "error", "-y", "-loop", "1", "-i", join(DATA, "optical/walk.board.png"), "-t", "1", "-r", "30",
     "-c:v", "libx264", "-crf", "16", "-pix_fmt", "yuv420p", clip]);
   const clipBytes = readFileSync(clip);
-  const { page: fresh, errors: freshErrors } = await openTake("autoplay=0");
-  const inVideo = await fresh.evaluate(async (bytes) => {
+  // A page with no take: the files picked there bring the panel up.
+  const fresh = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const freshErrors = [];
+  fresh.on("pageerror", (e) => freshErrors.push(String(e)));
+  await fresh.goto(`${server.url}/?autoplay=0`);
+  await fresh.setInputFiles("#camera-panel input[type=file]", [
+    { name: "board.mp4", mimeType: "video/mp4", buffer: clipBytes },
+    ...["walk.board.json", "walk.camera.json"].map((name) =>
+      ({ name, mimeType: "application/json", buffer: readFileSync(join(DATA, "optical", name)) })),
+  ]);
+  await fresh.waitForFunction(() => /board layout \(BOARD\.json\): walk\.board\.json/.test(
+    document.querySelector("#camera-panel .camera-inputs")?.textContent ?? ""), null, { timeout: 60000 });
+  const inVideo = await fresh.evaluate(async () => {
     const panel = document.querySelector("#camera-panel").embusenCamera;
-    const get = async (path) => new File([await (await fetch(path)).blob()], path.split("/").pop());
-    await panel.open([new File([new Uint8Array(bytes)], "board.mp4"), await get("/data/optical/walk.board.json"),
-      await get("/data/optical/walk.camera.json")]);
     const outcome = await panel.calibrate();
     return { ...outcome, camera: JSON.parse(outcome.camera), status: document.querySelector("#camera-panel .camera-status").textContent };
-  }, [...clipBytes]);
+  });
   const walk = JSON.parse(readFileSync(join(DATA, "optical/walk.camera.json"), "utf8"));
   const offInVideo = Math.hypot(...inVideo.camera.camera_center_world_cm.map((c, i) => c - walk.camera_center_world_cm[i]));
   console.log(`walk's board in a video frame (H.264, crf 16, the true lens): ${inVideo.corners} corners, ` +

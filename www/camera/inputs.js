@@ -12,12 +12,14 @@ import { closeVideo, measureFps, openVideo } from "../video-frames.js";
  * The take's video: its file, its element, its rate as the camera recorded it.
  * @typedef {{file: Blob, name: string, element: HTMLVideoElement, fps: number, frameCount: number}} TakeVideo
  */
-/** @typedef {"video" | "recording" | "camera" | "background" | "board" | "boardLayout" | "truth" | "json"} InputKind */
+/** @typedef {"video" | "recording" | "camera" | "background" | "board" | "boardLayout" | "truth" | "track" | "json"} InputKind */
 
 /** What kind of input a file is, by its name (then its type). @param {File} file @returns {InputKind | null} */
 export function kindOf(file) {
   const name = file.name.toLowerCase();
   if (name.endsWith(".bvh")) return "recording";
+  // `embusen track` names its CSV NAME.track.csv (beside NAME.bvh).
+  if (name.endsWith(".track.csv")) return "track";
   if (name.endsWith(".csv")) return "truth";
   if (name.endsWith(".json")) return "json";
   if (name.endsWith(".png")) return name.includes("board") ? "board" : "background";
@@ -39,6 +41,7 @@ export class TakeInputs {
   /** @type {FileBytes | undefined} */ board;
   /** @type {FileBytes | undefined} */ boardLayout;
   /** @type {FileBytes | undefined} */ truth;
+  /** A track `embusen track` (or the page) wrote for this take: shown as it is. @type {FileBytes | undefined} */ track;
 
   /**
    * Opens one input; the others stay. A video replaces the one before (closed).
@@ -92,6 +95,7 @@ export class TakeInputs {
       line("camera (camera.json)", this.camera?.name),
       line("background still (PNG)", this.background?.name ?? (v ? "none: the median of the video's frames will stand in" : undefined)),
       ...(this.truth ? [line("true hips (CSV)", this.truth.name)] : []),
+      ...(this.track ? [line("track (CSV)", this.track.name)] : []),
       ...(this.board || this.boardLayout
         ? [line("board still", this.board?.name), line("board layout (BOARD.json)", this.boardLayout?.name)]
         : []),

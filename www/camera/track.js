@@ -73,7 +73,7 @@ export async function trackTake(panel) {
     ui.progress.value = 1;
     const result = resultOf(opened, done, readMs, (performance.now() - started) / 1000);
     showTrack(panel, done);
-    await showInPlayer(panel, recording, camera, done);
+    await showInPlayer(panel, recording, camera, done.trackedHipsCm);
     panel.say(statusOf(panel, result, done, offsetS, background));
     ui.exportRecording.disabled = ui.exportTrack.disabled = false;
     return result;
@@ -102,7 +102,11 @@ function resultOf(opened, done, readMs, seconds) {
   };
 }
 
-/** The finished track over the video and in the plots. @param {CameraPanel} panel @param {Done} done */
+/**
+ * The finished track over the video and in the plots.
+ * @param {CameraPanel} panel
+ * @param {Pick<Done, "outlines" | "candidates" | "errors">} done
+ */
 function showTrack(panel, done) {
   const { plots } = panel;
   panel.outlines = done.outlines;
@@ -145,15 +149,15 @@ function statusOf(panel, result, done, offsetS, background) {
 }
 
 /**
- * Shows the take just tracked in the panel's player (`options.player`): its
- * suit recording opened there (unless it is already), then the body at the
+ * Shows a tracked take in the panel's player (`options.player`): its
+ * recording opened there (unless it is already), then the body at the
  * camera track, the camera and the paths in its 3D view.
  * @param {CameraPanel} panel
  * @param {FileBytes} recording
  * @param {FileBytes} camera
- * @param {Done} done
+ * @param {ArrayLike<number>} trackedHipsCm per recording frame x, y, z (cm)
  */
-async function showInPlayer(panel, recording, camera, done) {
+async function showInPlayer(panel, recording, camera, trackedHipsCm) {
   const player = panel.options.player;
   if (!player) return;
   try {
@@ -165,8 +169,33 @@ async function showInPlayer(panel, recording, camera, done) {
     // The frustum reaches a metre ahead: the camera's size in the room's scale.
     const frustumCm = view.frustum_cm(100);
     view.free();
-    player.showCameraTake({ cameraHipsCm: done.trackedHipsCm, frustumCm });
+    player.showCameraTake({ cameraHipsCm: trackedHipsCm, frustumCm });
   } catch {
     // The player says what went wrong in its own error box; the track stands.
   }
+}
+
+/**
+ * Shows a take tracked before (its corrected BVH, its track CSV, its camera
+ * and its video) as a track just finished shows, with no tracking: the
+ * outlines over the video, the plots, the take in the player. Rejects with
+ * the message the page shows when the files are not one take's.
+ * @param {CameraPanel} panel
+ */
+export async function showFinishedTake(panel) {
+  const { inputs, ui, plots } = panel;
+  const { video, recording, camera, track } = inputs;
+  if (!video || !recording || !camera || !track) throw new Error("open a video, its tracked BVH, its track CSV and a camera.json");
+  const m = await loadCameraModule();
+  const offsetS = ui.offset.value.trim() === "" ? 0 : Number(ui.offset.value);
+  const view = new m.FinishedTakeView({ recording: copyOf(recording), camera: copyOf(camera), track: copyOf(track), video: factsOf(video), offset_s: offsetS });
+  try {
+    plots.clear();
+    plots.path = view.path();
+    showTrack(panel, { outlines: view.outlines_px(), candidates: [], errors: null });
+    await showInPlayer(panel, recording, camera, view.tracked_hips_cm());
+  } finally {
+    view.free();
+  }
+  panel.say(`${track.name}: ${video.frameCount} frames tracked before, shown as they are (Track tracks the take again)`);
 }
