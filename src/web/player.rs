@@ -157,8 +157,9 @@ impl Player {
     /// frame with a non-finite one shows no body); the camera as
     /// `frustum_cm`, line segments of six numbers each (two ends, x, y, z, in
     /// the recording's coordinates, cm); and the camera track's floor path
-    /// beside the suit's and the inertial estimate's. The floor and the
-    /// view's framing take in the track and the camera. On error (no
+    /// beside the suit's and the inertial estimate's. The view frames the
+    /// track with the other paths; the floor reaches under the camera too.
+    /// On error (no
     /// recording open, a length that does not fit) nothing shown changes.
     pub fn show_camera_take(&mut self, camera_hips_cm: &[f64], frustum_cm: &[f64]) -> Result<(), JsError> {
         let session = self.open_session()?;

@@ -258,7 +258,7 @@ impl Scene {
     }
 
     /// Shows `take` (or none) from the next [`Scene::set_recording`] on,
-    /// which must follow: its paths and camera join the floor and the framing.
+    /// which must follow: its path joins the framing, its camera the floor.
     pub fn set_take(&mut self, take: Option<CameraTake>) {
         self.take = take;
         self.body_frame = None;
@@ -291,10 +291,18 @@ impl Scene {
             .map(|p| self.to_world(*p).y)
             .fold(f32::INFINITY, f32::min)
             .clamp(-10.0, 0.0);
+        // The view frames the body's paths; the floor reaches under the
+        // camera too, which may stand metres away, out of the picture.
         let (mut min, mut max) =
             (vec3(f32::INFINITY, 0.0, f32::INFINITY), vec3(f32::NEG_INFINITY, 0.0, f32::NEG_INFINITY));
-        // The paths, and the camera: the floor reaches under it, the view frames it.
-        for p in hips_before.iter().chain(&hips_after).chain(&hips_camera).chain(frustum.iter().flatten()) {
+        let path_points = hips_before.len() + hips_after.len() + hips_camera.len();
+        let mut paths = None;
+        let points =
+            hips_before.iter().chain(&hips_after).chain(&hips_camera).chain(frustum.iter().flatten());
+        for (k, p) in points.enumerate() {
+            if k == path_points {
+                paths = Some((min, max));
+            }
             if p.x.is_finite() && p.z.is_finite() {
                 min = vec3(min.x.min(p.x), 0.0, min.z.min(p.z));
                 max = vec3(max.x.max(p.x), 0.0, max.z.max(p.z));
@@ -303,6 +311,7 @@ impl Scene {
         if !min.x.is_finite() {
             (min, max) = (vec3(-1.0, 0.0, -1.0), vec3(1.0, 0.0, 1.0));
         }
+        let (path_min, path_max) = paths.filter(|(m, _)| m.x.is_finite()).unwrap_or((min, max));
         // The grid reaches one metre beyond the paths, snapped to whole cells
         // so that the lines stay put when the recording changes.
         let snap = |v: f32, up: bool| {
@@ -340,9 +349,9 @@ impl Scene {
         }
         self.trails.geometry = Mesh::new(&self.context, &ribbons);
         self.hips = hips;
-        // Frame the whole path: look at its centre from far enough away.
-        let centre = (min + max) * 0.5;
-        let extent = (max - min).magnitude().max(2.0);
+        // Frame the paths: look at their centre from far enough away.
+        let centre = (path_min + path_max) * 0.5;
+        let extent = (path_max - path_min).magnitude().max(2.0);
         self.orbit.target = vec3(centre.x, floor_y + 0.9, centre.z);
         self.orbit.distance_m = extent * 1.1 + 2.0;
         let height = hips_after.first().map_or(1.0, |h| h.y - floor_y);
