@@ -120,6 +120,7 @@ const PLAYBACK_CONTROLS = `
   <label>speed <select data-action="speed"></select></label>
   <label><input type="checkbox" data-action="loop"> loop</label>
   <label><input type="checkbox" data-action="follow"> follow</label>
+  <label><input type="checkbox" data-action="solid"> solid</label>
   <label>original <select data-action="ghost"></select></label>`;
 
 /**
@@ -185,6 +186,8 @@ function wirePlayback({ player, choices, get, showError, signal }, setPlaying) {
   looping.checked = defaults.looping;
   const follow = get("[data-action=follow]", HTMLInputElement);
   follow.checked = defaults.follow;
+  const solid = get("[data-action=solid]", HTMLInputElement);
+  solid.checked = defaults.solid;
   const slider = get(".slider", HTMLInputElement);
   get("[data-action=play]", HTMLButtonElement).addEventListener("click", () => setPlaying(!player.playing()), { signal });
   slider.addEventListener("input", () => player.set_frame(+slider.value), { signal });
@@ -206,6 +209,7 @@ function wirePlayback({ player, choices, get, showError, signal }, setPlaying) {
   }, { signal });
   looping.addEventListener("change", () => player.set_looping(looping.checked), { signal });
   follow.addEventListener("change", () => player.set_follow(follow.checked), { signal });
+  solid.addEventListener("change", () => player.set_solid(solid.checked), { signal });
   ghost.addEventListener("change", guarded(() => player.set_ghost(/** @type {import("./pkg/embusen.js").Ghost} */ (ghost.value))), { signal });
 }
 

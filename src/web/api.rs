@@ -144,6 +144,9 @@ pub struct Defaults {
     pub speed: f64,
     pub looping: bool,
     pub follow: bool,
+    /// Whether the body is drawn solid (the body model scaled to the
+    /// skeleton), not as a stick figure.
+    pub solid: bool,
     pub ghost: Ghost,
 }
 
@@ -167,6 +170,11 @@ pub struct Options {
 
 /// Whether a new player follows the hips with the camera.
 pub const FOLLOW_DEFAULT: bool = false;
+
+/// Whether a new player draws the body solid: a body reads as a body, and
+/// its contacts with the floor as contacts; the stick figure shows the
+/// joints the file holds.
+pub const SOLID_DEFAULT: bool = true;
 
 impl Options {
     pub fn new() -> Options {
@@ -192,6 +200,7 @@ impl Options {
                 speed: clock.speed(),
                 looping: clock.looping(),
                 follow: FOLLOW_DEFAULT,
+                solid: SOLID_DEFAULT,
                 ghost: Ghost::default(),
             },
         }

@@ -86,6 +86,7 @@ impl Player {
             .map_err(|_| js_error("cannot create a canvas"))?;
         let mut scene = Scene::new(context);
         scene.follow = api::FOLLOW_DEFAULT;
+        scene.set_solid(api::SOLID_DEFAULT);
         scene.ghost = Ghost::default();
         Ok(Player {
             plots_2d: context_2d(&plots)?,
@@ -177,12 +178,11 @@ impl Player {
                 frustum_cm.len()
             )));
         }
-        // The body model `embusen track` builds for this recording: built
-        // here from the recording shown, so it always fits its skeleton.
-        let shape = body_shape_of(&session.recording).map_err(js_error)?;
+        // The body model `embusen track` builds for this recording, which
+        // the view draws at the track.
+        body_shape_of(&session.recording).map_err(js_error)?;
         let point = |p: &[f64]| glam::DVec3::new(p[0], p[1], p[2]);
         let take = CameraTake {
-            shape,
             hips_cm: camera_hips_cm.chunks_exact(3).map(point).collect(),
             frustum_cm: frustum_cm.chunks_exact(6).map(|l| [point(&l[..3]), point(&l[3..])]).collect(),
         };
@@ -204,6 +204,9 @@ impl Player {
     fn restage(&mut self) {
         if let Some(s) = &self.session {
             let up_is_z = s.recording.up_axis_is_z();
+            // The body model `embusen track` builds for it; none for a
+            // skeleton it cannot read a body from (drawn as sticks).
+            self.scene.shape = body_shape_of(&s.recording).ok();
             self.scene.set_recording(&s.recording.poses, &s.translated.poses, s.translated.hips, up_is_z);
         }
         self.drawn_frame = None;
@@ -378,6 +381,15 @@ impl Player {
 
     pub fn set_follow(&mut self, follow: bool) {
         self.scene.follow = follow;
+        self.scene_dirty = true;
+    }
+
+    /// Draws the body solid (the body model scaled to the skeleton, where
+    /// one can be read from it), or as a stick figure. A camera take's body
+    /// is always solid: it is the model the camera matched.
+    pub fn set_solid(&mut self, solid: bool) {
+        self.scene.set_solid(solid);
+        self.drawn_frame = None;
         self.scene_dirty = true;
     }
 

@@ -40,8 +40,6 @@ const FRUSTUM_RADIUS_M: f32 = 0.012;
 
 /// A camera-tracked take of the open recording, as the view shows it.
 pub struct CameraTake {
-    /// The body model, posed each frame at the camera track's hips.
-    pub shape: BodyShape,
     /// Where the camera track puts the hips joint, per frame of the
     /// recording (its own coordinates, cm); a non-finite one draws no body.
     pub hips_cm: Vec<DVec3>,
@@ -80,6 +78,11 @@ pub struct Scene {
     camera: Camera,
     orbit: Orbit,
     pub follow: bool,
+    /// Whether the corrected body is drawn solid ([`Scene::set_solid`]).
+    solid: bool,
+    /// The recording's body model, when one can be read from its skeleton:
+    /// drawn solid, and at a camera take's track.
+    pub shape: Option<BodyShape>,
     pub ghost: Ghost,
     /// Rotation that stands the recording up (Z-up files) in three-d's Y-up world.
     world_from_recording: Mat4,
@@ -97,10 +100,9 @@ pub struct Scene {
     sun: DirectionalLight,
     /// Sideways offset of the ghost in side-by-side mode (m).
     side_offset: Vec3,
-    /// The camera-tracked take shown, if any, and what draws it: its solid
-    /// body (of frame `body_frame`, shown when that frame has one) and the
-    /// camera's frustum.
+    /// The camera-tracked take shown, if any, and its camera's frustum.
     take: Option<CameraTake>,
+    /// The solid body, of frame `body_frame`, shown when that frame has one.
     body: Gm<Mesh, PhysicalMaterial>,
     body_frame: Option<usize>,
     body_shown: bool,
@@ -239,6 +241,8 @@ impl Scene {
             camera,
             orbit: Orbit { target: vec3(0.0, 1.0, 0.0), yaw: 0.6, pitch: 0.35, distance_m: 6.0 },
             follow: false,
+            solid: false,
+            shape: None,
             ghost: Ghost::Overlay,
             world_from_recording: Mat4::identity(),
             side_offset: vec3(1.2, 0.0, 0.0),
@@ -261,6 +265,12 @@ impl Scene {
     /// which must follow: its path joins the framing, its camera the floor.
     pub fn set_take(&mut self, take: Option<CameraTake>) {
         self.take = take;
+        self.body_frame = None;
+    }
+
+    /// Draws the corrected body solid, or as sticks.
+    pub fn set_solid(&mut self, solid: bool) {
+        self.solid = solid;
         self.body_frame = None;
     }
 
@@ -394,7 +404,17 @@ impl Scene {
             Some(Some(shift_cm)) => original.frame(f).iter().map(|p| self.to_world(*p + shift_cm)).collect(),
             Some(None) => Vec::new(),
         };
-        let (mut joints, bones) = match take_shift_cm {
+        // Solid: the take's body at its track, or the corrected one (the
+        // original pose and the shift that corrects it); sticks otherwise.
+        let body = match take_shift_cm {
+            Some(shift_cm) => Some(shift_cm),
+            None if self.solid && self.shape.is_some() => {
+                let at = |poses: &Poses| poses.frame(f).get(self.hips).copied().unwrap_or(DVec3::NAN);
+                Some(Some(at(corrected) - at(original)).filter(|shift| shift.is_finite()))
+            }
+            None => None,
+        };
+        let (mut joints, bones) = match body {
             None => self.skeleton_instances(&solid, parents, Vec3::new(0.0, 0.0, 0.0)),
             Some(_) => (Vec::new(), Vec::new()),
         };
@@ -411,9 +431,10 @@ impl Scene {
             ..Default::default()
         });
         self.bones.set_instances(&Instances { transformations: bones, ..Default::default() });
-        if let Some(shift_cm) = take_shift_cm {
+        if let Some(shift_cm) = body {
             self.set_body(original, f, shift_cm);
         }
+        self.body_shown &= body.is_some();
         if self.ghost != Ghost::Hidden {
             let ghost: Vec<Vec3> = original.frame(f).iter().map(|p| self.to_world(*p)).collect();
             let offset = match (self.ghost, solid.get(self.hips), ghost.get(self.hips)) {
@@ -432,15 +453,15 @@ impl Scene {
         }
     }
 
-    /// The take's solid body in frame `f`: the body model in the original
-    /// pose of `f` moved by `shift_cm` (none when `None`), meshed again
-    /// only when the mesh is of another frame.
+    /// The solid body in frame `f`: the body model in the original pose of
+    /// `f` moved by `shift_cm` (none when `None`), meshed again only when
+    /// the mesh is of another frame.
     fn set_body(&mut self, original: &Poses, f: usize, shift_cm: Option<DVec3>) {
         if self.body_frame == Some(f) {
             return;
         }
-        let mesh = shift_cm.zip(self.take.as_ref()).and_then(|(shift_cm, take)| {
-            let mesh = take.shape.pose(original.frame(f), shift_cm).ok()?.mesh(BODY_SEGMENTS);
+        let mesh = shift_cm.zip(self.shape.as_ref()).and_then(|(shift_cm, shape)| {
+            let mesh = shape.pose(original.frame(f), shift_cm).ok()?.mesh(BODY_SEGMENTS);
             Some(CpuMesh {
                 positions: Positions::F32(
                     mesh.positions_cm.iter().map(|p| self.to_world(p.as_dvec3())).collect(),
@@ -520,9 +541,9 @@ impl Scene {
         let mut bodies: Vec<&dyn Object> = vec![&self.joints, &self.bones];
         if self.take.is_some() {
             bodies.push(&self.frustum);
-            if self.body_shown {
-                bodies.push(&self.body);
-            }
+        }
+        if self.body_shown {
+            bodies.push(&self.body);
         }
         if self.ghost != Ghost::Hidden {
             bodies.extend([&self.ghost_joints as &dyn Object, &self.ghost_bones]);

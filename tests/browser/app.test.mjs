@@ -486,6 +486,43 @@ const colourPixels = (page, rgb, tolerance = 40) => page.evaluate(([rgb, toleran
   return { near, body };
 }, [rgb, tolerance]);
 
+test("the body is solid for every recording, the stick figure a choice away", async (t) => {
+  const { page, errors } = await openApp(browser, server.url, "/?autoplay=0");
+  mkdirSync(SCREENSHOTS, { recursive: true });
+  /** The light grey pixels of the body in frame 60, solid and as sticks. */
+  const bodies = async (name) => {
+    const counts = [];
+    for (const solid of [true, false]) {
+      await page.evaluate(([solid]) => {
+        const { player } = document.querySelector("#app").embusen;
+        player.set_solid(solid);
+        player.set_frame(60);
+        player.draw();
+      }, [solid]);
+      counts.push((await colourPixels(page, [0, 0, 0])).body);
+      await page.screenshot({ path: join(SCREENSHOTS, `${name}-${solid ? "solid" : "sticks"}.png`) });
+    }
+    console.log(`${name}, frame 60: the body solid ${counts[0]} light grey pixels, as sticks ${counts[1]}`);
+    assert.ok(counts[0] > 1.5 * counts[1], `${name}: the solid body covers more than the sticks (${counts})`);
+  };
+  assert.equal(await page.isChecked("#app [data-action=solid]"), true, "solid by default");
+  await bodies("demo");
+  if (HAVE_DATA || process.env.CI === "true") {
+    // A Bandai file and a Z-up kata from the suit's vendor.
+    for (const file of ["groundtruth/bandai1_walk_active_001.bvh", "karate/heian_nidan.bvh"]) {
+      const name = file.split("/").pop();
+      await page.setInputFiles("#app input[type=file]", join(DATA, file));
+      await page.waitForFunction((name) => document.querySelector("#app").embusen.player.info().name === name, name);
+      await bodies(name.replace(/\.bvh$/, ""));
+    }
+  } else {
+    console.log(`SKIPPED: ${DATA} not found; the solid body of a Bandai file and of Heian Nidan were not drawn`);
+  }
+  assert.equal(await page.isVisible("#app .error"), false);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
 test("a camera take shows the body solid at the camera track, the camera, and three paths", async (t) => {
   if (skipWithoutData(t)) return;
   const { page, errors } = await openApp(browser, server.url, `/?autoplay=0&src=${TAKE}.suit.bvh`);
@@ -515,6 +552,8 @@ test("a camera take shows the body solid at the camera track, the camera, and th
   });
   const drawFrame = (f) => page.evaluate(([p, f]) => { const player = eval(p); player.set_frame(f); player.draw(); }, [player, f]);
 
+  // The stick figure as the reference the solid body is measured against.
+  await page.click("#app [data-action=solid]");
   await drawFrame(60);
   const sticks = await colourPixels(page, [236, 96, 226]);
   assert.equal(await legend(), null, "no legend without a take");
