@@ -448,6 +448,19 @@ class AnimationLoop {
     return this.clock ? this.clock.playing() : this.player.playing();
   }
 
+  /** Plays or pauses the clock followed, or the player's own. @param {boolean} on */
+  play(on) {
+    if (this.clock) this.clock.setPlaying(on);
+    else this.player.set_playing(on);
+    this.wake();
+  }
+
+  /** Follows `clock` (`null`: the player's own, paused until asked to play). @param {Clock | null} clock */
+  follow(clock) {
+    this.player.set_playing(false);
+    this.clock = clock;
+  }
+
   /** @param {number} now */
   #tick = (now) => {
     this.#request = 0;
@@ -754,19 +767,9 @@ export async function mount(element, options = {}) {
   };
   const resizeObserver = new ResizeObserver(() => destroyed || resize());
   resizeObserver.observe(element);
-  /** @param {boolean} on */
-  const setPlaying = (on) => {
-    if (loop.clock) loop.clock.setPlaying(on);
-    else player.set_playing(on);
-    wake();
-  };
-  /** @param {Clock | null} clock */
-  const followClock = (clock) => {
-    if (destroyed) return;
-    player.set_playing(false); // the clock plays, or nothing does until asked
-    loop.clock = clock;
-    resize(); // the clock's owner may have laid the player out anew
-  };
+  const setPlaying = (/** @type {boolean} */ on) => loop.play(on);
+  // The clock's owner may have laid the player out anew: measured again.
+  const followClock = (/** @type {Clock | null} */ clock) => destroyed || (loop.follow(clock), resize());
   wirePlayback(controlled, setPlaying);
   if (chrome === "full") wireFullControls(controlled, refresh);
   wireView(view, player, signal);
