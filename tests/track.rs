@@ -417,6 +417,38 @@ fn a_finished_take_opens_as_tracked(
     };
     // The suit's own recording, not the one the track corrected.
     refused(open(&suit_bytes, &camera_bytes, csv, video), "walk.tracked.bvh: its hips are");
+    // Tracked at an offset (the BVH's frames before the video carried by
+    // the suit's steps up to the one at the video's first frame), opened
+    // at it; at another, refused, saying so.
+    let dir = tracked.parent().unwrap();
+    let shifted = dir.join("walk.shifted.bvh");
+    let scene = |s: &str| suit.with_file_name(format!("walk{s}"));
+    let (ok, said) = track_cli_with(
+        &["--offset-s", "0.1"],
+        &scene(".mp4"),
+        suit,
+        camera,
+        Some(&scene(".background.png")),
+        &shifted,
+    );
+    assert!(ok, "{said}");
+    let (shifted_bytes, shifted_csv) = (
+        std::fs::read(&shifted).unwrap(),
+        std::fs::read_to_string(dir.join("walk.shifted.track.csv")).unwrap(),
+    );
+    let at = |offset_s: f64| {
+        FinishedTake::open(
+            NamedBytes { name: "walk.shifted.bvh", bytes: &shifted_bytes },
+            NamedBytes { name: "walk.camera.json", bytes: &camera_bytes },
+            NamedBytes { name: "walk.shifted.track.csv", bytes: shifted_csv.as_bytes() },
+            "walk.mp4",
+            video,
+            offset_s,
+        )
+    };
+    let opened = at(0.1).unwrap();
+    assert!(opened.outlines_px[194].is_empty(), "past the BVH's end at 0.1 s: no pose, no outline");
+    refused(at(0.0), "or not at the offset it was tracked at (0 s here)");
     // A track with a row too few, or of a video at another rate.
     let short: String = csv.lines().take(195).map(|l| format!("{l}\n")).collect();
     refused(open(&tracked_bytes, &camera_bytes, &short, video), "has 194 rows, walk.mp4 195 frames");

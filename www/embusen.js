@@ -30,6 +30,7 @@ import init, { Player, options as playerOptions } from "./pkg/embusen.js";
  * @property {string} [background] with `video`: the background still's URL
  * @property {string} [board] with `video`: a still of the ChArUco board (its BOARD.json beside it)
  * @property {string} [truth] with `video`: the true hips per video frame (CSV)
+ * @property {number} [offsetS] with `video`: added to a video frame's time to read the BVH (s), as `--offset-s`
  * @property {string} [track] with `video`: its track CSV (`src` the BVH tracked with it), shown with no tracking
  * @property {boolean} [autotrack] with `video`: track on opening
  * @property {"fused" | "paper"} [method] with `video`: the camera tracker
@@ -110,7 +111,7 @@ const FULL_CONTROLS = `
   <label>left foot <select data-setting="left"></select></label>
   <label>right foot <select data-setting="right"></select></label>
   <span class="sep"></span>
-  <button data-action="export-recording" title="download the corrected recording">⬇ corrected file</button>
+  <button data-action="export-recording" title="download the recording as the method above corrects it (a camera track's is under the video)">⬇ corrected file</button>
   <button data-action="export-hips" title="download the hips trajectory as CSV">⬇ hips CSV</button>`;
 
 const PLAYBACK_CONTROLS = `
@@ -626,8 +627,10 @@ function loaders(player, guarded, showError) {
  */
 async function mountCamera(host, options, handle, destroyed) {
   const { mountCameraTracking } = await import("./camera.js");
-  const { video, src, camera, background, board, truth, method, track, autotrack } = options;
-  const panel = await mountCameraTracking(host, { video, src, camera, background, board, truth, method, track, autotrack, player: handle });
+  const { video, src, camera, background, board, truth, method, offsetS, track, autotrack } = options;
+  const panel = await mountCameraTracking(host, {
+    video, src, camera, background, board, truth, method, offsetS, track, autotrack, player: handle,
+  });
   if (!destroyed()) return (handle.camera = panel);
   panel.destroy();
   return null;

@@ -140,7 +140,9 @@ fn check_fit(
             recording_name,
             format!(
                 "its hips are {off_cm:.1} cm from {track_name}'s at video frame {i}: it is not the recording \
-                 this track corrected (open the BVH `embusen track` wrote with it)"
+                 this track corrected (open the BVH `embusen track` wrote with it), or not at the offset it \
+                 was tracked at ({} s here)",
+                timing.offset_s
             ),
         )),
         Some(_) => Ok(()),

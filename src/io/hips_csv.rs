@@ -3,7 +3,10 @@
 //! camera tracker's output, which adds `frame` first, and `confidence` and
 //! `uncertainty_cm` last.
 //! Columns are found by their header names, in any order; others are
-//! ignored.
+//! ignored. The tracker writes `NaN` for the height in a video frame its
+//! recording has no pose for (before its start or past its end at the
+//! take's offset): read back as NaN. Any other number that is not finite
+//! is an error.
 
 use glam::DVec3;
 
@@ -47,7 +50,8 @@ pub fn parse_hips_csv(text: &str, file_name: &str) -> Result<Vec<HipsSample>, Er
     let mut samples = Vec::new();
     for (index, line) in lines {
         let cells: Vec<&str> = line.split(',').collect();
-        let number = |c: usize, name: &str| -> Result<f64, Error> {
+        // The number in column `c`, finite, or NaN where `nan_is_none_here`.
+        let read = |c: usize, name: &str, nan_is_none_here: bool| -> Result<f64, Error> {
             let column_at = 1 + cells[..c.min(cells.len())].iter().map(|s| s.len() + 1).sum::<usize>();
             let cell = cells.get(c).ok_or_else(|| {
                 Error::at(file_name, index + 1, line.len() + 1, format!("the row has no `{name}`"))
@@ -60,16 +64,22 @@ pub fn parse_hips_csv(text: &str, file_name: &str) -> Result<Vec<HipsSample>, Er
                     format!("`{}` is not a number ({name})", cell.trim()),
                 )
             })?;
-            if value.is_finite() {
+            if value.is_finite() || (value.is_nan() && nan_is_none_here) {
                 Ok(value)
             } else {
                 Err(Error::at(file_name, index + 1, column_at, format!("{name} must be finite")))
             }
         };
+        let number = |c: usize, name: &str| read(c, name, false);
         let [t, x, y, z] = required;
         samples.push(HipsSample {
             time_s: number(t, "time_s")?,
-            hips_cm: DVec3::new(number(x, "hips_x_cm")?, number(y, "hips_y_cm")?, number(z, "hips_z_cm")?),
+            // No height where the recording had no pose.
+            hips_cm: DVec3::new(
+                number(x, "hips_x_cm")?,
+                read(y, "hips_y_cm", true)?,
+                number(z, "hips_z_cm")?,
+            ),
             confidence: confidence.map(|c| number(c, "confidence")).transpose()?,
             uncertainty_cm: match uncertainty {
                 Some(c) if cells.get(c).is_some_and(|cell| !cell.trim().is_empty()) => {
@@ -138,5 +148,9 @@ mod tests {
         assert_eq!(error.line_column, Some((2, 4)));
         assert!(parse_hips_csv("", "t.csv").is_err());
         assert!(parse_hips_csv("time_s,hips_x_cm,hips_y_cm,hips_z_cm\n0,1,inf,3\n", "t.csv").is_err());
+        assert!(parse_hips_csv("time_s,hips_x_cm,hips_y_cm,hips_z_cm\n0,NaN,1,3\n", "t.csv").is_err());
+        // The tracker's height in a frame without a pose.
+        let no_pose = parse_hips_csv("time_s,hips_x_cm,hips_y_cm,hips_z_cm\n0,1,NaN,3\n", "t.csv").unwrap();
+        assert!(no_pose[0].hips_cm.y.is_nan() && no_pose[0].hips_cm.x == 1.0);
     }
 }

@@ -110,7 +110,9 @@ fn bvh_shift_cm(recording: &Recording, suit: &SuitMotion, timing: &VideoTiming, 
             let floor = if frames.is_empty() {
                 inertial[f]
             } else if video_position <= 0.0 {
-                let first = ((-timing.offset_s * suit.bvh_fps).round().max(0.0) as usize).min(n - 1);
+                // Before the video (a positive offset): the suit's steps up
+                // to the BVH frame at the video's first, which is on it.
+                let first = ((timing.offset_s * suit.bvh_fps).round().max(0.0) as usize).min(n - 1);
                 frames[0].floor_cm + inertial[f] - inertial[first]
             } else if video_position >= (frames.len() - 1) as f64 {
                 let last_time_s = (frames.len() - 1) as f64 / timing.fps + timing.offset_s;

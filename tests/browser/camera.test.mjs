@@ -362,6 +362,20 @@ test("a take tracked before opens as it is, with no worker; autotrack=1 tracks o
   assert.match(await status(wrong.page), /walk\.suit\.bvh: its hips are [\d.]+ cm from walk\.tracked\.track\.csv's at video frame \d+: it is not the recording this track corrected/);
   assert.equal(await wrong.page.evaluate(() => document.querySelector("#camera-panel").embusenCamera.outlineAt(100).length), 0);
   await wrong.page.close();
+  // A take tracked at an offset opens at that offset (`offset=`), and at
+  // another one says so.
+  const shifted = join(scratch, "finished", "walk.shifted.bvh");
+  trackWalkWithCli(shifted, ["--offset-s", "0.1"]);
+  pages["/take/walk.shifted.bvh"] = { type: "text/plain", body: readFileSync(shifted) };
+  pages["/take/walk.shifted.track.csv"] = { type: "text/csv", body: readFileSync(shifted.replace(/\.bvh$/, ".track.csv")) };
+  const files = "src=/take/walk.shifted.bvh&track=/take/walk.shifted.track.csv";
+  for (const [offset, said] of [["&offset=0.1", /195 frames tracked before/], ["", /or not at the offset it was tracked at \(0 s here\)/]]) {
+    const opened = await openCounting(`${scene}&${files}${offset}`);
+    await opened.page.waitForFunction(() => /tracked before|error/.test(document.querySelector("#camera-panel .camera-status")?.className +
+      document.querySelector("#camera-panel .camera-status")?.textContent), null, { timeout: 60000 });
+    assert.match(await status(opened.page), said);
+    await opened.page.close();
+  }
   // autotrack=1 with everything a track needs: tracked on opening.
   const auto = await openCounting(`${scene}&src=/data/optical/walk.suit.bvh&background=/data/optical/walk.background.png&autotrack=1`);
   await auto.page.waitForFunction(() => /195 frames tracked/.test(document.querySelector("#camera-panel .camera-status")?.textContent ?? ""),

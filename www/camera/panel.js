@@ -12,8 +12,8 @@ const PANEL = `
     <button data-action="track">Track</button>
     <button data-action="cancel" disabled>Cancel</button>
     <progress value="0" max="1"></progress>
-    <button data-action="export-recording" disabled title="download the corrected BVH">⬇ corrected BVH</button>
-    <button data-action="export-track" disabled title="download the hips track with the camera's confidence">⬇ track CSV</button>
+    <button data-action="export-recording" disabled title="download the BVH with its hips on the camera's track (what embusen track writes), not the player's method's">⬇ BVH on the camera track</button>
+    <button data-action="export-track" disabled title="download the camera's hips track with its confidence per video frame">⬇ camera track CSV</button>
     <button data-action="calibrate" disabled>Calibrate from board</button>
     <button data-action="export-camera" disabled title="download the camera as camera.json">⬇ camera.json</button>
     <span class="camera-corners" title="no board? click on the video the corners of a rectangle of known size on the floor">
