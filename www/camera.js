@@ -82,6 +82,12 @@ export class CameraPanel {
     this.ui.estimateOffset.checked = Boolean(options.estimateOffset);
   }
 
+  /** The offset field's seconds: 0 when empty, NaN when it is no number (a track refuses it, saying so). */
+  offsetS() {
+    const text = this.ui.offset.value.trim();
+    return text === "" ? 0 : Number(text);
+  }
+
   /** @param {string} text @param {boolean} [isError] */
   say(text, isError = false) {
     this.ui.status.textContent = text;
@@ -152,8 +158,11 @@ export class CameraPanel {
     // Beside the 3D view, on the player's clock.
     player.element.classList.add("embusen-take");
     player.element.append(this.ui.videoBox);
-    const offset = this.ui.offset;
-    player.followClock(videoClock(this.inputs.video, () => (Number.isFinite(+offset.value) ? +offset.value : 0)));
+    // The clock shows a time even while the field holds no number.
+    player.followClock(videoClock(this.inputs.video, () => {
+      const offsetS = this.offsetS();
+      return Number.isFinite(offsetS) ? offsetS : 0;
+    }));
   }
 
   /** Opens files in any order, each recognised by its name; a bad one is reported, the rest kept. @param {FileList | File[]} files */

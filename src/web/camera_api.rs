@@ -219,6 +219,12 @@ pub struct FrameProgress {
     pub confidence: f64,
 }
 
+impl From<&crate::app::tracking::FrameProgress> for FrameProgress {
+    fn from(p: &crate::app::tracking::FrameProgress) -> FrameProgress {
+        FrameProgress { frame: p.frame, floor: p.floor_cm.into(), confidence: p.confidence }
+    }
+}
+
 /// What a frame leaves the path scorer (a second job of the same take) to
 /// score: the fused energy at each candidate, in the frame's terms.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, Tsify)]

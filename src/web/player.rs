@@ -142,6 +142,10 @@ impl Player {
         };
         let session = Session::open(recording, settings).map_err(js_error)?;
         self.clock.set_recording(session.recording.frame_count(), session.recording.fps);
+        // The body model `embusen track` builds for it, read once per
+        // recording; none for a skeleton it cannot read a body from
+        // (drawn as sticks).
+        self.scene.shape = body_shape_of(&session.recording).ok();
         self.session = Some(session);
         // A take belongs to the recording it was tracked from.
         self.scene.set_take(None);
@@ -178,9 +182,11 @@ impl Player {
                 frustum_cm.len()
             )));
         }
-        // The body model `embusen track` builds for this recording, which
-        // the view draws at the track.
-        body_shape_of(&session.recording).map_err(js_error)?;
+        // The view draws the recording's body model at the track: without
+        // one, the error says why the skeleton gives none.
+        if self.scene.shape.is_none() {
+            body_shape_of(&session.recording).map_err(js_error)?;
+        }
         let point = |p: &[f64]| glam::DVec3::new(p[0], p[1], p[2]);
         let take = CameraTake {
             hips_cm: camera_hips_cm.chunks_exact(3).map(point).collect(),
@@ -204,9 +210,6 @@ impl Player {
     fn restage(&mut self) {
         if let Some(s) = &self.session {
             let up_is_z = s.recording.up_axis_is_z();
-            // The body model `embusen track` builds for it; none for a
-            // skeleton it cannot read a body from (drawn as sticks).
-            self.scene.shape = body_shape_of(&s.recording).ok();
             self.scene.set_recording(&s.recording.poses, &s.translated.poses, s.translated.hips, up_is_z);
         }
         self.drawn_frame = None;

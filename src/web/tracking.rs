@@ -5,6 +5,7 @@
 //! them), typed results out ([`camera_api`](super::camera_api)); nothing
 //! here touches the DOM, so it runs where there is no window.
 
+use glam::DVec3;
 use tsify::{Ts, Tsify};
 use wasm_bindgen::prelude::*;
 
@@ -14,6 +15,11 @@ use crate::web::camera_api::{
     FinishedTakeOptions, FrameCandidates, FrameProgress, NamedFile, OffsetFound, PathWork, TakeFiles,
     TakeOptions, TruthErrors, read,
 };
+
+/// Points as the page takes them: x, y, z (cm) point after point.
+fn xyz_cm(points: &[DVec3]) -> Vec<f64> {
+    points.iter().flat_map(|p| [p.x, p.y, p.z]).collect()
+}
 
 /// Per frame the outline's pixels as `x, y` pixel after pixel, as the page
 /// draws them over the video.
@@ -73,8 +79,8 @@ impl CameraJob {
         stride: usize,
         full_range: bool,
     ) -> Result<Ts<FrameProgress>, JsError> {
-        let p = self.job.push_luma(luma, stride, full_range).map_err(js_error)?;
-        Ok(FrameProgress { frame: p.frame, floor: p.floor_cm.into(), confidence: p.confidence }.into_ts()?)
+        let progress = self.job.push_luma(luma, stride, full_range).map_err(js_error)?;
+        Ok(FrameProgress::from(&progress).into_ts()?)
     }
 
     /// Leaves the path search's energies to a second job of the same take,
@@ -143,7 +149,7 @@ impl CameraJob {
     /// frames, for `Player.show_camera_take`: x, y, z (cm, the recording's
     /// coordinates) frame after frame.
     pub fn tracked_hips_cm(&self) -> Vec<f64> {
-        self.job.tracked_hips_cm().iter().flat_map(|p| [p.x, p.y, p.z]).collect()
+        xyz_cm(&self.job.tracked_hips_cm())
     }
 
     /// Keeps the frames the time offset is estimated from (call before the
@@ -196,10 +202,7 @@ impl FinishedTakeView {
     /// Per video frame, where the track put the hips and how well the
     /// camera saw the body, as the tracker reported them while it ran.
     pub fn path(&self) -> Result<Vec<Ts<FrameProgress>>, JsError> {
-        let frames = self.take.path.iter().map(|p| {
-            FrameProgress { frame: p.frame, floor: p.floor_cm.into(), confidence: p.confidence }.into_ts()
-        });
-        Ok(frames.collect::<Result<_, _>>()?)
+        Ok(self.take.path.iter().map(|p| FrameProgress::from(p).into_ts()).collect::<Result<_, _>>()?)
     }
 
     /// The body's outline over each video frame where the track put it.
@@ -210,6 +213,6 @@ impl FinishedTakeView {
     /// The recording's hips in each of its frames, for
     /// `Player.show_camera_take`: x, y, z (cm) frame after frame.
     pub fn tracked_hips_cm(&self) -> Vec<f64> {
-        self.take.tracked_hips_cm.iter().flat_map(|p| [p.x, p.y, p.z]).collect()
+        xyz_cm(&self.take.tracked_hips_cm)
     }
 }

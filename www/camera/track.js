@@ -64,7 +64,7 @@ export async function trackTake(panel) {
   panel.run = run;
   const started = performance.now();
   try {
-    const offsetS = ui.offset.value.trim() === "" ? 0 : Number(ui.offset.value);
+    const offsetS = panel.offsetS();
     const method = /** @type {import("./protocol.js").TakeOptions["method"]} */ (ui.method.value);
     const take = { recording: copyOf(recording), camera: copyOf(camera), background: copyOf(background), video: factsOf(video), method, offset_s: offsetS };
     const videoBytes = await video.file.arrayBuffer();
@@ -183,11 +183,11 @@ async function showInPlayer(panel, recording, camera, trackedHipsCm) {
  * @param {CameraPanel} panel
  */
 export async function showFinishedTake(panel) {
-  const { inputs, ui, plots } = panel;
+  const { inputs, plots } = panel;
   const { video, recording, camera, track } = inputs;
   if (!video || !recording || !camera || !track) throw new Error("open a video, its tracked BVH, its track CSV and a camera.json");
   const m = await loadCameraModule();
-  const offsetS = ui.offset.value.trim() === "" ? 0 : Number(ui.offset.value);
+  const offsetS = panel.offsetS();
   const view = new m.FinishedTakeView({ recording: copyOf(recording), camera: copyOf(camera), track: copyOf(track), video: factsOf(video), offset_s: offsetS });
   try {
     plots.clear();
