@@ -512,6 +512,7 @@ test("one clock: the player and a take's video show the same instant, whichever 
   pages["/clock.mp4"] = { type: "video/mp4", body: readFileSync(join(scratch, "clock.mp4")) };
   const demo = await browser.newPage();
   await demo.goto(`${server.url}/?autoplay=0`);
+  await demo.waitForFunction(() => document.querySelector("#app").embusen);
   const bvh = await demo.evaluate(async () => {
     const { player, ready } = document.querySelector("#app").embusen;
     await ready;
