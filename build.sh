@@ -87,7 +87,7 @@ cmd_build() {
     # camera tracker, fetched with a take to track; the board detector,
     # fetched only to calibrate from a board still.
     # The player is what every page and embed downloads before it shows
-    # anything (≤ 300 KB gzipped, tests/browser/app.test.mjs), and it runs
+    # anything (its first load gated at 360 KB gzipped, tests/browser/), and it runs
     # a method once per file or setting: built for size, 0.8 KB gzipped
     # less than for speed. The tracker runs for every frame of a video, and
     # the detector searches every pixel of a still: built for speed.

@@ -391,7 +391,7 @@ pub fn joints_kept_true(skeleton: &Skeleton, body: &SuitBody) -> Vec<usize> {
 /// `fps`), the joint's mean angular speed (rad/s) over the frames within
 /// `window_s` of it.
 // Not inlined into `apply` (nor `CorrelatedNoise::next`): the player's first
-// load is held to 300 KB gzipped (tests/browser/app.test.mjs), and inlined
+// load is gated (tests/browser/app.test.mjs), and inlined
 // they cost it 0.3 KB more. For the same bytes each frame's speed is
 // computed again in every window it falls in, not kept: the player's demo
 // has no window, and the measured sizes' window is 9 frames at 30 fps.

@@ -6,6 +6,7 @@ import { readFile, stat } from "node:fs/promises";
 import { existsSync } from "node:fs";
 import { extname, join, normalize, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
+import { gzipSync } from "node:zlib";
 import { chromium } from "playwright-core";
 
 export const ROOT = resolve(fileURLToPath(new URL("../..", import.meta.url)));
@@ -86,6 +87,37 @@ export async function waitReady(page, selector = "#app") {
     { timeout: 30000 },
   );
 }
+
+/**
+ * What opening `path` downloads until the player in `selector` plays the
+ * demo and the page is idle: every response, each gzipped (level 9) as a
+ * server would send it. Shared by the size gate (app.test.mjs) and the
+ * benchmark, so that both measure the same thing.
+ * @returns {Promise<{total: number, sizes: Array<[string, number]>}>} bytes
+ */
+export async function firstLoad(browser, url, path, selector) {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  try {
+    const bodies = [];
+    page.on("response", (r) => bodies.push(r.body().then((b) => [new URL(r.url()).pathname, gzipSync(b, { level: 9 }).length])));
+    await page.goto(url + path);
+    await waitReady(page, selector);
+    await page.waitForLoadState("networkidle");
+    const sizes = await Promise.all(bodies);
+    return { total: sizes.reduce((sum, [, size]) => sum + size, 0), sizes };
+  } finally {
+    await page.close();
+  }
+}
+
+/**
+ * The first load's gate (gzipped bytes): it catches accidents, such as the
+ * take's code fetched with the demo or a debug build; it does not steer design.
+ */
+export const FIRST_LOAD_LIMIT_BYTES = 360_000;
+
+/** The pages whose first load is measured: the app and an embed, each with the player's selector. */
+export const FIRST_LOAD_PAGES = [["/", "#app"], ["/embed.html", "#player"]];
 
 /**
  * Counts the pixels of a canvas that differ from its background (the colour
