@@ -362,6 +362,14 @@ fn app_tracks(
     assert_eq!(per_frame.len(), info.frame_count);
     assert!(figures.mean_cm < 10.0, "{figures:?}");
     assert!(job.against_truth(NamedBytes { name: "bad.csv", bytes: b"time_s,x\n1,2\n" }).is_err());
+    // What the player's plots show of it: the path per recording frame, and
+    // per video frame its instant (no offset: the video's own) and the
+    // uncertainty the fused tracker states in every frame with a pose.
+    let series = job.camera_series();
+    assert_eq!(series.hips_cm.len(), 195, "a point per frame of walk.suit.bvh");
+    assert_eq!(series.recording_time_s.len(), info.frame_count);
+    assert_eq!(series.recording_time_s[30], 30.0 / info.fps);
+    assert!(series.uncertainty_cm.iter().all(|u| u.is_finite() && *u > 0.0), "{:?}", series.uncertainty_cm);
     (export.recording_text, export.track_csv, outlines)
 }
 
@@ -395,10 +403,12 @@ fn a_finished_take_opens_as_tracked(
     };
     let take = open(&tracked_bytes, &camera_bytes, csv, video).unwrap();
     assert_eq!(take.path.len(), 195);
-    assert_eq!(take.tracked_hips_cm.len(), 195);
+    assert_eq!(take.series.hips_cm.len(), 195);
     let row_100: Vec<&str> = csv.lines().nth(101).unwrap().split(',').collect();
     assert_eq!(format!("{:.3}", take.path[100].confidence), row_100[5]);
     assert_eq!(format!("{:.4}", take.path[100].floor_cm.x), row_100[2]);
+    assert_eq!(format!("{:.1}", take.series.uncertainty_cm[100]), row_100[6]);
+    assert_eq!(take.series.recording_time_s[100], 100.0 / 30.0);
     // The CSV holds the track to 0.1 mm: the outlines are the job's, but
     // for a pixel here and there.
     assert_eq!(take.outlines_px.len(), outlines.len());

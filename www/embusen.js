@@ -16,6 +16,7 @@ import init, { Player, options as playerOptions } from "./pkg/embusen.js";
 /** @typedef {import("./pkg/embusen.js").PlayerSettings} Settings */
 /** @typedef {import("./pkg/embusen.js").Options} Options */
 /** @typedef {import("./pkg/embusen.js").Export} Export */
+/** @typedef {import("./pkg/embusen.js").TakeSeries} TakeSeries */
 
 /**
  * @typedef {object} MountOptions
@@ -69,6 +70,7 @@ import init, { Player, options as playerOptions } from "./pkg/embusen.js";
  * @typedef {object} CameraTakeView
  * @property {ArrayLike<number>} cameraHipsCm x, y, z per frame of the recording (its coordinates, cm): the camera track's hips
  * @property {ArrayLike<number>} frustumCm the camera: line segments, 6 numbers each (two ends x, y, z, cm; the camera module's `CameraView.frustum_cm`)
+ * @property {TakeSeries} [series] per video frame the uncertainty and the error against a truth, for the plots' (f)
  */
 
 /** The event the wasm module sends the window when it panics (src/web/panic.rs). */
@@ -111,8 +113,8 @@ const FULL_CONTROLS = `
   <label>left foot <select data-setting="left"></select></label>
   <label>right foot <select data-setting="right"></select></label>
   <span class="sep"></span>
-  <button data-action="export-recording" title="download the recording as the method above corrects it (a camera track's is under the video)">⬇ corrected file</button>
-  <button data-action="export-hips" title="download the hips trajectory as CSV">⬇ hips CSV</button>`;
+  <button data-action="export-recording" title="download the recording as the method chosen corrects it (a camera track's is the camera panel's)">⬇ corrected file</button>
+  <button data-action="export-hips" title="download the hips trajectory, original and as the method chosen corrects it, as CSV">⬇ hips CSV</button>`;
 
 const PLAYBACK_CONTROLS = `
   <button data-action="play" title="play/pause (space)">▶</button>
@@ -319,6 +321,20 @@ function showInfo({ element, player, get }) {
   }
   // The paper method's own settings only show when it is chosen.
   element.dataset.method = settings.method;
+  sayWhatDownloadsHold(element, settings.method);
+}
+
+/**
+ * The player's downloads say whose result they hold: the method's, not a
+ * camera track's (that one is the camera panel's).
+ * @param {HTMLElement} element
+ * @param {string} method
+ */
+function sayWhatDownloadsHold(element, method) {
+  const recording = element.querySelector("[data-action=export-recording]");
+  const hips = element.querySelector("[data-action=export-hips]");
+  if (recording) recording.textContent = `⬇ file by ${method}`;
+  if (hips) hips.textContent = `⬇ hips CSV by ${method}`;
 }
 
 // --- The player's pointer and keyboard: orbit (drag), pan (right or shift drag,
@@ -553,9 +569,9 @@ function cameraTakes(player, choices, legendBox, showError, wake) {
     return row;
   }));
   /** @param {CameraTakeView} take */
-  const show = ({ cameraHipsCm, frustumCm }) => {
+  const show = ({ cameraHipsCm, frustumCm, series }) => {
     try {
-      player.show_camera_take(Float64Array.from(cameraHipsCm), Float64Array.from(frustumCm));
+      player.show_camera_take(Float64Array.from(cameraHipsCm), Float64Array.from(frustumCm), series);
       legendBox.hidden = false;
       showError("");
       return true;

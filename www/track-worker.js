@@ -145,7 +145,7 @@ class Tracking {
     post({
       type: "done", files, frames, msPerFrame: per(this.busyMs), decodeMsPerFrame: per(this.decodeMs),
       scoreMsPerFrame: per(this.scorer?.ms ?? 0), outlines, candidates: job.paper_candidates(),
-      trackedHipsCm: job.tracked_hips_cm(), errors, truthProblem, offset, offsetProblem,
+      trackedHipsCm: job.tracked_hips_cm(), series: job.take_series(), errors, truthProblem, offset, offsetProblem,
     }, outlines.map((o) => o.buffer));
   }
 

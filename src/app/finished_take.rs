@@ -10,8 +10,9 @@
 //! an error that says which file does not fit, never a picture of
 //! something else.
 
-use glam::{DVec2, DVec3};
+use glam::DVec2;
 
+use crate::app::plot::CameraSeries;
 use crate::app::tracking::{FrameProgress, NamedBytes, VideoDescription, check_video, outlines_px};
 use crate::camera::Camera;
 use crate::error::Error;
@@ -40,9 +41,11 @@ pub struct FinishedTake {
     /// it, as the camera sees it: pixels `[x, y]`; none in a frame without
     /// a pose.
     pub outlines_px: Vec<Vec<[u32; 2]>>,
-    /// Per recording frame, its hips (the recording's coordinates, cm): the
-    /// camera's path as the 3D view draws it.
-    pub tracked_hips_cm: Vec<DVec3>,
+    /// The take as the player shows it: per recording frame its hips (the
+    /// recording's coordinates, cm), the camera's path as the 3D view and
+    /// the plots draw it; per video frame the recording's time it was read
+    /// at and the uncertainty the track CSV states.
+    pub series: CameraSeries,
 }
 
 impl FinishedTake {
@@ -109,8 +112,13 @@ impl FinishedTake {
                 confidence: s.confidence.unwrap_or(0.0),
             })
             .collect();
-        let tracked_hips_cm = recording.poses.trajectory(suit.hips);
-        Ok(FinishedTake { path, outlines_px, tracked_hips_cm })
+        let series = CameraSeries {
+            hips_cm: recording.poses.trajectory(suit.hips),
+            recording_time_s: (0..samples.len()).map(|i| timing.bvh_time_s(i)).collect(),
+            uncertainty_cm: samples.iter().map(|s| s.uncertainty_cm.unwrap_or(f64::NAN)).collect(),
+            ..CameraSeries::default()
+        };
+        Ok(FinishedTake { path, outlines_px, series })
     }
 }
 

@@ -2,7 +2,7 @@
 //! plus everything derived from them for display and export. Browser-free, so
 //! the wasm player stays a thin shell over it and tests can drive it natively.
 
-use crate::app::plot::{PlotData, Stance, StanceReason};
+use crate::app::plot::{CameraSeries, PlotData, Stance, StanceReason};
 use crate::body::feet::{Foot, PerFoot};
 use crate::error::Error;
 use crate::io::recording::{FeetChoice, Recording, base_name};
@@ -36,6 +36,8 @@ pub struct Session {
     pub recording: Recording,
     pub settings: Settings,
     pub translated: Translated,
+    /// What the plots show; with a camera take shown, its track too
+    /// ([`Session::set_camera_take`]), kept across new settings.
     pub plot_data: PlotData,
 }
 
@@ -51,9 +53,47 @@ impl Session {
     /// settings and result, so the user never loses what was on screen.
     pub fn set_settings(&mut self, settings: Settings) -> Result<(), Error> {
         let translated = translate(&self.recording, &settings)?;
-        self.plot_data = plot_data(&self.recording, &translated, &settings);
+        let camera = std::mem::take(&mut self.plot_data.camera);
+        self.plot_data = PlotData { camera, ..plot_data(&self.recording, &translated, &settings) };
         self.translated = translated;
         self.settings = settings;
+        Ok(())
+    }
+
+    /// Shows a camera take in the plots: its path in (d) beside the
+    /// inertial one, its uncertainty and error per video frame in (f); an
+    /// empty `camera` shows none. Errors, changing nothing: a path not one
+    /// point per recording frame, per-video-frame series of different
+    /// lengths, or times that are not finite and increasing.
+    pub fn set_camera_take(&mut self, camera: CameraSeries) -> Result<(), Error> {
+        let name = &self.recording.name;
+        let frames = self.recording.frame_count();
+        let video_frames = camera.recording_time_s.len();
+        if camera.is_shown() && camera.hips_cm.len() != frames {
+            let message = format!(
+                "a camera track of {} frames does not fit this recording of {frames}",
+                camera.hips_cm.len()
+            );
+            return Err(Error::whole(name, message));
+        }
+        for (series, len) in
+            [("uncertainty_cm", camera.uncertainty_cm.len()), ("error_cm", camera.error_cm.len())]
+        {
+            if len != video_frames && !(series == "error_cm" && len == 0) {
+                let message =
+                    format!("the camera take's {series} has {len} video frames, its times {video_frames}");
+                return Err(Error::whole(name, message));
+            }
+        }
+        if let Some(i) = (0..video_frames).find(|&i| {
+            let t = camera.recording_time_s[i];
+            !t.is_finite() || (i > 0 && t <= camera.recording_time_s[i - 1])
+        }) {
+            let message =
+                format!("the camera take's time of video frame {i} is not finite and after the one before");
+            return Err(Error::whole(name, message));
+        }
+        self.plot_data.camera = camera;
         Ok(())
     }
 
@@ -148,18 +188,48 @@ pub fn plot_data(recording: &Recording, t: &Translated, settings: &Settings) -> 
         hips_before_cm: recording.poses.trajectory(t.hips),
         hips_after_cm: t.poses.trajectory(t.hips),
         stance,
+        camera: CameraSeries::default(),
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec3;
 
     #[test]
     fn export_names() {
         assert_eq!(export_name("a/b/heian.bvh", "embusen.bvh"), "heian.embusen.bvh");
         assert_eq!(export_name("walk", "hips.csv"), "walk.hips.csv");
         assert_eq!(export_name("demo (synthetic kata)", "hips.csv"), "recording.hips.csv");
+    }
+
+    #[test]
+    fn a_camera_take_stays_in_the_plots_across_settings_and_must_fit() {
+        let mut session = Session::open(crate::synth::demo::demo().recording(), Settings::default()).unwrap();
+        let frames = session.recording.frame_count();
+        let take = CameraSeries {
+            hips_cm: (0..frames).map(|f| DVec3::new(f as f64, 90.0, 0.0)).collect(),
+            recording_time_s: vec![0.0, 0.5, 1.0],
+            uncertainty_cm: vec![2.0, 2.5, 3.0],
+            error_cm: Vec::new(),
+            truth_name: String::new(),
+        };
+        let short = CameraSeries { hips_cm: take.hips_cm[1..].to_vec(), ..take.clone() };
+        let uneven = CameraSeries { error_cm: vec![1.0], ..take.clone() };
+        let backwards = CameraSeries { recording_time_s: vec![0.0, 1.0, 0.5], ..take.clone() };
+        for (bad, why) in [(short, "does not fit"), (uneven, "error_cm"), (backwards, "video frame 2")] {
+            let e = session.set_camera_take(bad).unwrap_err().to_string();
+            assert!(e.contains(why), "{e}");
+            assert!(!session.plot_data.camera.is_shown());
+        }
+        session.set_camera_take(take.clone()).unwrap();
+        let paper = Settings { method: MethodKind::Paper, ..Settings::default() };
+        session.set_settings(paper).unwrap();
+        assert_eq!(session.plot_data.camera, take);
+        assert_eq!(session.plot_data.frame_count(), frames);
+        session.set_camera_take(CameraSeries::default()).unwrap();
+        assert!(!session.plot_data.camera.is_shown());
     }
 
     #[test]

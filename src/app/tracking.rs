@@ -10,6 +10,7 @@
 
 use glam::{DVec2, DVec3};
 
+use crate::app::plot::CameraSeries;
 use crate::body::shape::{BodyShape, PosedBody};
 use crate::camera::Camera;
 use crate::error::Error;
@@ -347,10 +348,20 @@ impl TrackingJob {
         Ok((frame_errors_cm(&track_cm, &truth_cm), track_errors(&track_cm, &truth_cm)))
     }
 
-    /// Where the finished track puts the hips in each of the recording's
-    /// frames (cm, the recording's coordinates); none before `finish`.
-    pub fn tracked_hips_cm(&self) -> Vec<DVec3> {
-        self.track.as_ref().map_or(Vec::new(), |t| self.take.tracked_hips_cm(t, &self.take.setup.timing))
+    /// The finished track as the player's plots show it: where it puts the
+    /// hips in each of the recording's frames (cm, the recording's
+    /// coordinates), and per video frame the recording's time it was
+    /// read at and the uncertainty the tracker states (no error: that needs
+    /// a truth, [`TrackingJob::against_truth`]); empty before `finish`.
+    pub fn camera_series(&self) -> CameraSeries {
+        let Some(track) = &self.track else { return CameraSeries::default() };
+        let timing = &self.take.setup.timing;
+        CameraSeries {
+            hips_cm: self.take.tracked_hips_cm(track, timing),
+            recording_time_s: (0..track.frames.len()).map(|i| timing.bvh_time_s(i)).collect(),
+            uncertainty_cm: track.frames.iter().map(|f| f.uncertainty_cm).collect(),
+            ..CameraSeries::default()
+        }
     }
 
     /// The paper's candidates of each video frame of the finished track:

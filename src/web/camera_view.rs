@@ -11,7 +11,8 @@ use crate::app::calibration::{floor_grid_px, frustum_lines_cm};
 use crate::app::frame_layers::{FrameLayers, layer_rgba};
 use crate::camera::{Camera, FloorRectangle, FocalLength, ImageSize};
 use crate::image::pipeline::Features;
-use crate::web::camera_api::{CameraFit, FloorCorners, FrameLayer, LumaPlane, PixelPoint, read};
+use crate::web::camera_api::{CameraFit, FloorCorners, FrameLayer, LumaPlane, PixelPoint};
+use crate::web::js_object::read;
 use crate::web::tracking::js_error;
 
 /// A camera.json, parsed once.

@@ -31,11 +31,14 @@ pub mod camera_plots;
 pub mod camera_view;
 #[cfg(any(feature = "web-player", feature = "web-camera"))]
 mod canvas2d;
+mod js_object;
 mod panic;
 #[cfg(feature = "web-player")]
 mod player;
 #[cfg(feature = "web-player")]
 mod scene;
+#[cfg(any(feature = "web-player", feature = "web-camera"))]
+pub mod take_series;
 #[cfg(feature = "web-camera")]
 pub mod tracking;
 #[cfg(feature = "web-camera")]

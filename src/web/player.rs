@@ -8,13 +8,15 @@ use wasm_bindgen::prelude::*;
 use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement, WebGl2RenderingContext};
 
 use crate::app::clock::Clock;
-use crate::app::plot::{self, Layout, Stance, TextMeasure};
+use crate::app::plot::{self, CameraSeries, Layout, Stance, TextMeasure};
 use crate::app::session::{Session, Settings};
 use crate::io::recording::{FeetChoice, Recording};
 use crate::io::table::Accelerations;
 use crate::track::take::body_shape_of;
 use crate::web::api::{Export, FootNames, Ghost, Info, Options, PlotPanel, SoleDepth};
+use crate::web::js_object::read;
 use crate::web::scene::{CameraTake, Scene};
+use crate::web::take_series::TakeSeries;
 use crate::web::{api, canvas2d};
 
 /// Every choice the page offers, and the defaults.
@@ -162,11 +164,18 @@ impl Player {
     /// frame with a non-finite one shows no body); the camera as
     /// `frustum_cm`, line segments of six numbers each (two ends, x, y, z, in
     /// the recording's coordinates, cm); and the camera track's floor path
-    /// beside the suit's and the inertial estimate's. The view frames the
-    /// track with the other paths; the floor reaches under the camera too.
-    /// On error (no
-    /// recording open, a length that does not fit) nothing shown changes.
-    pub fn show_camera_take(&mut self, camera_hips_cm: &[f64], frustum_cm: &[f64]) -> Result<(), JsError> {
+    /// beside the suit's and the inertial estimate's, in the 3D view and in
+    /// the plots' (d); with `series`, per video frame the uncertainty the
+    /// tracker states and its error against a truth in the plots' (f). The
+    /// view frames the track with the other paths; the floor reaches under
+    /// the camera too. On error (no recording open, a length that does not
+    /// fit, an unknown field) nothing shown changes.
+    pub fn show_camera_take(
+        &mut self,
+        camera_hips_cm: &[f64],
+        frustum_cm: &[f64],
+        series: Option<Ts<TakeSeries>>,
+    ) -> Result<(), JsError> {
         let session = self.open_session()?;
         let frames = session.recording.frame_count();
         if camera_hips_cm.len() != 3 * frames {
@@ -188,25 +197,53 @@ impl Player {
             body_shape_of(&session.recording).map_err(js_error)?;
         }
         let point = |p: &[f64]| glam::DVec3::new(p[0], p[1], p[2]);
+        let hips_cm: Vec<glam::DVec3> = camera_hips_cm.chunks_exact(3).map(point).collect();
+        let series: TakeSeries = match series {
+            Some(series) => read(series.js_value(), "the camera take's series").map_err(js_error)?,
+            None => TakeSeries::default(),
+        };
+        self.open_session_mut()?.set_camera_take(series.with_path(hips_cm.clone())).map_err(js_error)?;
         let take = CameraTake {
-            hips_cm: camera_hips_cm.chunks_exact(3).map(point).collect(),
+            hips_cm,
             frustum_cm: frustum_cm.chunks_exact(6).map(|l| [point(&l[..3]), point(&l[3..])]).collect(),
         };
         self.scene.set_take(Some(take));
-        self.restage();
+        self.after_change();
         Ok(())
+    }
+
+    /// What the plots' (f) shows of the camera take, per video frame; none
+    /// without a take.
+    pub fn camera_take_series(&self) -> Result<Option<Ts<TakeSeries>>, JsError> {
+        let camera = &self.open_session()?.plot_data.camera;
+        if !camera.is_shown() {
+            return Ok(None);
+        }
+        Ok(Some(TakeSeries::of(camera.clone()).into_ts()?))
+    }
+
+    /// Where the plots' (d) draws the camera take's path at frame `frame`:
+    /// `[x, y]` in the plot canvas's pixels, for clicks (tests); none
+    /// without a take.
+    pub fn camera_path_px(&self, frame: usize) -> Result<Option<Vec<f32>>, JsError> {
+        let data = &self.open_session()?.plot_data;
+        Ok(plot::camera_path_px(data, &self.layout, frame).map(|(x, y)| vec![x, y]))
     }
 
     /// Back to the recording alone.
     pub fn clear_camera_take(&mut self) {
         if self.scene.has_take() {
             self.scene.set_take(None);
-            self.restage();
+            if let Some(session) = &mut self.session {
+                // No take always fits.
+                let _ = session.set_camera_take(CameraSeries::default());
+            }
+            self.after_change();
         }
     }
 
     /// The scene's trails, floor and framing made again for the session and
-    /// the take, and the frame drawn anew (the plots do not show the take).
+    /// the take, and the frame drawn anew.
     fn restage(&mut self) {
         if let Some(s) = &self.session {
             let up_is_z = s.recording.up_axis_is_z();
@@ -216,9 +253,11 @@ impl Player {
         self.scene_dirty = true;
     }
 
-    /// After a new recording or new settings: the scene's trails and framing,
-    /// and the static plots, follow the session.
+    /// After a new recording, new settings or a camera take: the scene's
+    /// trails and framing, and the plots' layout and static part, follow
+    /// the session.
     fn after_change(&mut self) {
+        self.relayout();
         self.restage();
         self.repaint_all();
     }
@@ -252,6 +291,10 @@ impl Player {
         self.session.as_ref().ok_or_else(|| js_error("no recording is open"))
     }
 
+    fn open_session_mut(&mut self) -> Result<&mut Session, JsError> {
+        self.session.as_mut().ok_or_else(|| js_error("no recording is open"))
+    }
+
     /// Sets the canvas sizes in device pixels (call on resize).
     pub fn resize(&mut self, view_width: u32, view_height: u32, plots_width: u32, plots_height: u32) {
         self.view.set_width(view_width.max(1));
@@ -260,9 +303,19 @@ impl Player {
         self.plots.set_height(plots_height.max(1));
         self.plots_static.set_width(plots_width.max(1));
         self.plots_static.set_height(plots_height.max(1));
-        let (w, h) = (plots_width as f32, plots_height as f32);
-        self.layout = plot::layout(w, h, TextMeasure::With(&canvas2d::measure_text(&self.plots_2d)));
+        self.relayout();
         self.repaint_all();
+    }
+
+    /// The plots laid out again for their canvas and what the session shows
+    /// (a camera take adds (f)).
+    fn relayout(&mut self) {
+        let (w, h) = (self.plots.width() as f32, self.plots.height() as f32);
+        let text = canvas2d::measure_text(&self.plots_2d);
+        self.layout = match &self.session {
+            Some(s) => plot::layout_for(&s.plot_data, w, h, TextMeasure::With(&text)),
+            None => plot::layout(w, h, TextMeasure::With(&text)),
+        };
     }
 
     fn repaint_static_plots(&mut self) {

@@ -13,8 +13,10 @@ use crate::app::finished_take::FinishedTake;
 use crate::app::tracking::TrackingJob;
 use crate::web::camera_api::{
     FinishedTakeOptions, FrameCandidates, FrameProgress, NamedFile, OffsetFound, PathWork, TakeFiles,
-    TakeOptions, TruthErrors, read,
+    TakeOptions, TruthErrors,
 };
+use crate::web::js_object::read;
+use crate::web::take_series::TakeSeries;
 
 /// Points as the page takes them: x, y, z (cm) point after point.
 fn xyz_cm(points: &[DVec3]) -> Vec<f64> {
@@ -149,7 +151,14 @@ impl CameraJob {
     /// frames, for `Player.show_camera_take`: x, y, z (cm, the recording's
     /// coordinates) frame after frame.
     pub fn tracked_hips_cm(&self) -> Vec<f64> {
-        xyz_cm(&self.job.tracked_hips_cm())
+        xyz_cm(&self.job.camera_series().hips_cm)
+    }
+
+    /// Per video frame of the finished track, for `Player.show_camera_take`:
+    /// the recording's time it was read at and the uncertainty it states
+    /// (the page adds the error against a truth).
+    pub fn take_series(&self) -> Result<Ts<TakeSeries>, JsError> {
+        Ok(TakeSeries::of(self.job.camera_series()).into_ts()?)
     }
 
     /// Keeps the frames the time offset is estimated from (call before the
@@ -213,6 +222,12 @@ impl FinishedTakeView {
     /// The recording's hips in each of its frames, for
     /// `Player.show_camera_take`: x, y, z (cm) frame after frame.
     pub fn tracked_hips_cm(&self) -> Vec<f64> {
-        xyz_cm(&self.take.tracked_hips_cm)
+        xyz_cm(&self.take.series.hips_cm)
+    }
+
+    /// Per video frame, for `Player.show_camera_take`: the recording's
+    /// time it was read at and the uncertainty the track CSV states.
+    pub fn take_series(&self) -> Result<Ts<TakeSeries>, JsError> {
+        Ok(TakeSeries::of(self.take.series.clone()).into_ts()?)
     }
 }

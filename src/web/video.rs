@@ -10,7 +10,8 @@ use crate::image::GreyImage;
 use crate::image::background::{MEDIAN_FRAMES, median_background, sample_indices};
 use crate::io::container::{EncodedVideo, demux, nominal_fps};
 use crate::io::image_file::grey_to_png;
-use crate::web::camera_api::{EncodedFrame, LumaPlane, VideoFacts, read};
+use crate::web::camera_api::{EncodedFrame, LumaPlane, VideoFacts};
+use crate::web::js_object::read;
 use crate::web::tracking::js_error;
 
 /// The rate a video was recorded at, from one measured off its presented

@@ -76,7 +76,8 @@ test("the demo opens, plays, and draws a skeleton and every plot", async () => {
   const skeleton = await countDrawnPixels(page, "#app canvas.view");
   assert.ok(skeleton > 500, `3D view draws (${skeleton} pixels off the background)`);
   const panels = await panelsOf(page);
-  assert.equal(panels.length, 5, "five plot panels");
+  assert.equal(panels.length, 6, "six plot panels");
+  assert.deepEqual(panels[5], [0, 0, 0, 0], "(f) is laid out only with a camera take");
   for (let i = 0; i < 5; i++) {
     const rect = panels[i];
     const drawn = await countDrawnPixels(page, "#app canvas.plots", rect);

@@ -60,6 +60,53 @@ function trackWalkWithCli(out, extra = [], withBackground = true) {
   ], { stdio: "pipe" }).toString();
 }
 
+/**
+ * After Track on walk with its truth, the player's plots show the camera's
+ * result: (d) its path beside the others, (f) per video frame the
+ * uncertainty the tracker states and the error against the truth, whose
+ * mean is `embusen eval-track`'s for walk; a click on (f) or on the camera's
+ * path in (d) seeks the video and the 3D view together.
+ */
+async function thePlotsFollowTheTake(page) {
+  const series = await page.evaluate(() => document.querySelector("#app").embusen.player.camera_take_series());
+  assert.ok(series, "the player's plots hold no camera take");
+  assert.equal(series.uncertainty_cm.length, 195);
+  assert.ok(series.uncertainty_cm.every((u) => Number.isFinite(u) && u > 0), "an uncertainty stated in every frame");
+  assert.equal(series.error_cm.length, 195);
+  assert.equal(series.truth_name, "walk.truth.csv");
+  const pageMeanCm = series.error_cm.reduce((a, b) => a + b, 0) / series.error_cm.length;
+  const evalTrack = execFileSync(CLI, ["eval-track", join(DATA, "optical"), "--only", "walk", "--method", "fused"]).toString();
+  const row = evalTrack.split("\n").find((l) => /^walk\s+fused\s/.test(l));
+  const cliMeanCm = Number(row.split(/\s+/)[2]);
+  console.log(`(f) error against walk.truth.csv: mean ${pageMeanCm.toFixed(2)} cm in the page, ${cliMeanCm} cm by eval-track`);
+  assert.ok(Math.abs(pageMeanCm - cliMeanCm) <= 0.1, `${pageMeanCm} against eval-track's ${cliMeanCm}`);
+  const panels = await page.evaluate(() => document.querySelector("#app").embusen.player.plot_panels());
+  const shown = () => page.evaluate(() => ({
+    player: document.querySelector("#app").embusen.player.frame(),
+    video: Math.floor(document.querySelector(".camera-video video").currentTime * 30 + 1e-6),
+  }));
+  const settle = async () => {
+    await page.waitForTimeout(500);
+    return shown();
+  };
+  // (f), a quarter of the way along: frame 48 or 49 of 195.
+  const f = panels[5];
+  assert.ok(f.width > 50 && f.height > 10, `(f) laid out: ${JSON.stringify(f)}`);
+  await page.locator("#app canvas.plots").scrollIntoViewIfNeeded();
+  const plotsBox = await page.locator("#app canvas.plots").boundingBox();
+  await page.mouse.click(plotsBox.x + f.x + 0.25 * f.width, plotsBox.y + f.y + 0.5 * f.height);
+  const atF = await settle();
+  assert.ok(Math.abs(atF.player - 0.25 * 194) <= 1, `a click on (f) seeks the player: ${JSON.stringify(atF)}`);
+  assert.equal(atF.video, atF.player, `and the video with it: ${JSON.stringify(atF)}`);
+  // (d): the camera's path at frame 150, where the track put the hips.
+  const target = await page.evaluate(() => document.querySelector("#app").embusen.player.camera_path_px(150));
+  assert.ok(target, "frame 150 of the camera's path is drawn in (d)");
+  await page.mouse.click(plotsBox.x + target[0], plotsBox.y + target[1]);
+  const atD = await settle();
+  assert.ok(Math.abs(atD.player - 150) <= 5, `a click on the camera's path in (d) seeks there: ${JSON.stringify(atD)}`);
+  assert.equal(atD.video, atD.player, `and the video with it: ${JSON.stringify(atD)}`);
+}
+
 test("a scene tracked in the page is embusen track's, byte for byte, at a measured rate", async (t) => {
   if (skipWithoutData(t)) return;
   const out = join(scratch, "walk.tracked.bvh");
@@ -144,6 +191,7 @@ test("a scene tracked in the page is embusen track's, byte for byte, at a measur
   });
   assert.equal(player.name, "walk.suit.bvh", JSON.stringify(player));
   assert.ok(player.legend, `the player shows no camera take: ${player.error}`);
+  await thePlotsFollowTheTake(page);
   mkdirSync(SCREENSHOTS, { recursive: true });
   await page.locator("#app").screenshot({ path: join(SCREENSHOTS, "camera-take-in-player.png") });
   // The video and the 3D view side by side above the fold at 1280×800, one
@@ -353,6 +401,10 @@ test("a take tracked before opens as it is, with no worker; autotrack=1 tracks o
   });
   assert.deepEqual(player, { name: "walk.tracked.bvh", legend: true });
   assert.equal(await page.evaluate(() => window.workersStarted), 0, "no worker started: nothing was tracked");
+  // Its plots follow the take: (f) the uncertainty the CSV states, every frame.
+  const series = await page.evaluate(() => document.querySelector("#app").embusen.player.camera_take_series());
+  assert.ok(series && series.uncertainty_cm.length === 195 && series.uncertainty_cm.every((u) => u > 0), JSON.stringify(series));
+  assert.deepEqual(series.error_cm, []);
   await page.screenshot({ path: join(SCREENSHOTS, "finished-take.png") });
   assert.deepEqual(errors, []);
   await page.close();

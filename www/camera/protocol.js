@@ -14,6 +14,7 @@
 /** @typedef {import("../pkg-camera/embusen.js").FrameCandidates} FrameCandidates */
 /** @typedef {import("../pkg-camera/embusen.js").TruthErrors} TruthErrors */
 /** @typedef {import("../pkg-camera/embusen.js").OffsetFound} OffsetFound */
+/** @typedef {import("../pkg-camera/embusen.js").TakeSeries} TakeSeries */
 
 /**
  * The page to the tracker's worker: open a take (with the video's bytes the
@@ -47,6 +48,7 @@
  * @property {Uint32Array[]} outlines per video frame the body's outline where the track puts it: x, y pixel after pixel
  * @property {FrameCandidates[]} candidates the paper's per video frame (none for fused)
  * @property {Float64Array} trackedHipsCm per frame of the recording x, y, z (cm): for the player's 3D view
+ * @property {TakeSeries} series per video frame its instant on the recording's clock and the uncertainty: for the player's plots
  * @property {TruthErrors | null} errors against the truth, when one was given
  * @property {string | null} truthProblem why there are none, when a truth was given
  * @property {OffsetFound | null} offset the time offset estimated, when asked for and found

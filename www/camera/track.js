@@ -73,7 +73,9 @@ export async function trackTake(panel) {
     ui.progress.value = 1;
     const result = resultOf(opened, done, readMs, (performance.now() - started) / 1000);
     showTrack(panel, done);
-    await showInPlayer(panel, recording, camera, done.trackedHipsCm);
+    const errorCm = done.errors ? Array.from(done.errors.per_frame_cm) : [];
+    const series = { ...done.series, error_cm: errorCm, truth_name: errorCm.length > 0 ? inputs.truth?.name ?? "" : "" };
+    await showInPlayer(panel, recording, camera, done.trackedHipsCm, series);
     panel.say(statusOf(panel, result, done, offsetS, background));
     ui.exportRecording.disabled = ui.exportTrack.disabled = false;
     return result;
@@ -156,8 +158,9 @@ function statusOf(panel, result, done, offsetS, background) {
  * @param {FileBytes} recording
  * @param {FileBytes} camera
  * @param {ArrayLike<number>} trackedHipsCm per recording frame x, y, z (cm)
+ * @param {import("./protocol.js").TakeSeries} series per video frame, for the player's plots
  */
-async function showInPlayer(panel, recording, camera, trackedHipsCm) {
+async function showInPlayer(panel, recording, camera, trackedHipsCm, series) {
   const player = panel.options.player;
   if (!player) return;
   try {
@@ -169,7 +172,7 @@ async function showInPlayer(panel, recording, camera, trackedHipsCm) {
     // The frustum reaches a metre ahead: the camera's size in the room's scale.
     const frustumCm = view.frustum_cm(100);
     view.free();
-    player.showCameraTake({ cameraHipsCm: trackedHipsCm, frustumCm });
+    player.showCameraTake({ cameraHipsCm: trackedHipsCm, frustumCm, series });
   } catch {
     // The player says what went wrong in its own error box; the track stands.
   }
@@ -193,7 +196,7 @@ export async function showFinishedTake(panel) {
     plots.clear();
     plots.path = view.path();
     showTrack(panel, { outlines: view.outlines_px(), candidates: [], errors: null });
-    await showInPlayer(panel, recording, camera, view.tracked_hips_cm());
+    await showInPlayer(panel, recording, camera, view.tracked_hips_cm(), view.take_series());
   } finally {
     view.free();
   }

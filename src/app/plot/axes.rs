@@ -119,14 +119,18 @@ impl TimeAxis {
         (f64::from(u.clamp(0.0, 1.0)) * (self.frames - 1) as f64).round() as usize
     }
 
-    /// The pixel column (of `columns` across the plot) frame `frame` falls in.
-    pub(super) fn column(&self, frame: usize, columns: usize) -> usize {
+    /// The pixel column (of `columns` across the plot) the (possibly
+    /// fractional, not negative) frame `frame` falls in.
+    pub(super) fn column(&self, frame: f64, columns: usize) -> usize {
         if self.frames <= 1 {
             return 0;
         }
-        // u64: frames × columns overflows a 32-bit usize for long recordings.
-        let c = frame as u64 * columns as u64 / (self.frames - 1) as u64;
-        (c as usize).min(columns.saturating_sub(1))
+        // f64: frames × columns overflows a 32-bit usize for long
+        // recordings. Exact for whole frames: the product is a whole number
+        // well below 2^53, and a correctly rounded quotient floors as the
+        // integer division does.
+        let c = (frame * columns as f64 / (self.frames - 1) as f64).floor();
+        (c.max(0.0) as usize).min(columns.saturating_sub(1))
     }
 
     /// Tick positions (in frames) and labels (in seconds, or frames without a
@@ -164,6 +168,14 @@ impl ValueScale {
     pub(super) fn of(series: &PerFoot<Vec<f64>>) -> ValueScale {
         let (lo, hi) = padded_range(finite_range(&[&series.left, &series.right]));
         ValueScale { lo, hi }
+    }
+
+    /// From 0 up to the largest finite value of `series`, widened by 5% so
+    /// lines clear the frame: for distances, which start at none. 0–1
+    /// without a positive value.
+    pub(super) fn from_zero(series: &[&[f64]]) -> ValueScale {
+        let hi = finite_range(series).map_or(0.0, |(_, hi)| hi);
+        ValueScale { lo: 0.0, hi: if hi > 0.0 { 1.05 * hi } else { 1.0 } }
     }
 
     /// The y of `value` in `plot`.
@@ -272,9 +284,10 @@ pub(super) struct TopView {
 const TOP_VIEW_MIN_HALF_CM: f64 = 25.0;
 
 impl TopView {
-    /// Fits every finite point of both hips paths in `plot`, with 6% to spare.
+    /// Fits every finite point of the hips paths (the camera's too) in
+    /// `plot`, with 6% to spare.
     pub(super) fn new(data: &PlotData, plot: Rect) -> TopView {
-        let range = floor_range(&[&data.hips_before_cm, &data.hips_after_cm]);
+        let range = floor_range(&[&data.hips_before_cm, &data.hips_after_cm, &data.camera.hips_cm]);
         let center_half = |range: Option<(f64, f64)>| match range {
             // Halves: no overflow even for ±1e308.
             Some((lo, hi)) => {

@@ -4,7 +4,7 @@
 use super::axes::{TimeAxis, TopView, ValueScale};
 use super::figure::{Align, Figure, Shape, TextStyle};
 use super::layout::HEADER;
-use super::panels::{draw_static, readout_reserve_px};
+use super::panels::{camera_scale, draw_static, readout_reserve_px, video_frame_at};
 use super::{Layout, Panel, PlotData, Stance, StanceReason, TextMeasure, panel_at};
 use crate::app::theme::{self, Rgba};
 use crate::body::feet::Foot;
@@ -53,7 +53,7 @@ pub fn draw_cursor(data: &PlotData, frame: usize, layout: &Layout, text: TextMea
     }
     let frame = frame.min(time.frames - 1);
     let f = layout.font_px;
-    for panel in [Panel::FootSignal, Panel::HeightsBefore, Panel::HeightsAfter, Panel::Stance] {
+    for panel in layout.shown().filter(|p| p.is_time()) {
         let plot = layout.plot(panel);
         let x = time.x(plot, frame as f64);
         fig.segment((x, plot.y), (x, plot.bottom()), theme::CURSOR, 1.0, false);
@@ -71,10 +71,15 @@ pub fn draw_cursor(data: &PlotData, frame: usize, layout: &Layout, text: TextMea
             }
         }
     }
+    if layout.camera_shown {
+        camera_dots(&mut fig, data, frame, layout, &time);
+    }
     let view = TopView::new(data, layout.plot(Panel::TopView));
-    for (path, color) in
-        [(&data.hips_before_cm, theme::ORIGINAL.with_alpha(255)), (&data.hips_after_cm, theme::CORRECTED)]
-    {
+    for (path, color) in [
+        (&data.hips_before_cm, theme::ORIGINAL.with_alpha(255)),
+        (&data.hips_after_cm, theme::CORRECTED),
+        (&data.camera.hips_cm, theme::CAMERA),
+    ] {
         if let Some(p) = path.get(frame).and_then(|p| view.px_of(*p)) {
             dot(&mut fig, p, 0.35 * f, color);
         }
@@ -104,6 +109,30 @@ pub fn draw_cursor(data: &PlotData, frame: usize, layout: &Layout, text: TextMea
     fig
 }
 
+/// In (f), a dot on the uncertainty and the error of the video frame read
+/// nearest to recording frame `frame`.
+fn camera_dots(fig: &mut Figure, data: &PlotData, frame: usize, layout: &Layout, time: &TimeAxis) {
+    let camera = &data.camera;
+    let plot = layout.plot(Panel::Camera);
+    let at = |i: usize| video_frame_at(camera, time, i);
+    let count = camera.recording_time_s.len();
+    // The first video frame at or after `frame`: their instants increase
+    // (Session::set_camera_take).
+    let fps = time.fps.unwrap_or(1.0);
+    let next = camera.recording_time_s.partition_point(|&t| t * fps < frame as f64);
+    let nearest = [next.checked_sub(1), (next < count).then_some(next)]
+        .into_iter()
+        .flatten()
+        .min_by(|&a, &b| (at(a) - frame as f64).abs().total_cmp(&(at(b) - frame as f64).abs()));
+    let Some(i) = nearest else { return };
+    let scale = camera_scale(camera);
+    for (values, color) in [(&camera.uncertainty_cm, theme::CAMERA), (&camera.error_cm, theme::TRACK_ERROR)] {
+        if let Some(&v) = values.get(i).filter(|v| v.is_finite()) {
+            dot(fig, (time.x(plot, at(i)), scale.y(plot, v)), 0.28 * layout.font_px, color);
+        }
+    }
+}
+
 /// The whole figure at `frame`: [`draw_static`] with [`draw_cursor`] over it.
 pub fn draw(data: &PlotData, frame: usize, layout: &Layout, text: TextMeasure) -> Figure {
     let mut fig = draw_static(data, layout, text);
@@ -111,10 +140,17 @@ pub fn draw(data: &PlotData, frame: usize, layout: &Layout, text: TextMeasure) -
     fig
 }
 
+/// Where the camera take's path in (d) is drawn at recording frame `frame`
+/// (canvas pixels); `None` without a take, or where that frame has no point.
+pub fn camera_path_px(data: &PlotData, layout: &Layout, frame: usize) -> Option<(f32, f32)> {
+    TopView::new(data, layout.plot(Panel::TopView)).px_of(*data.camera.hips_cm.get(frame)?)
+}
+
 /// The frame to seek to for a click or drag at (`x`, `y`) canvas pixels: in a
 /// time panel (anywhere in its area, titles included), the frame under `x`,
-/// clamped to the plot's ends; in the top view, the frame whose corrected
-/// hips point, or failing that original one, is drawn nearest to the click.
+/// clamped to the plot's ends; in the top view, the frame whose hips point
+/// is drawn nearest to the click (the camera's, the corrected or the
+/// original path's, in that order on a tie).
 /// `None` outside the panels and for empty data.
 pub fn frame_at(data: &PlotData, layout: &Layout, x: f32, y: f32) -> Option<usize> {
     let time = TimeAxis::new(data);
@@ -127,9 +163,10 @@ pub fn frame_at(data: &PlotData, layout: &Layout, x: f32, y: f32) -> Option<usiz
     }
     let view = TopView::new(data, layout.plot(Panel::TopView));
     let mut best: Option<(f32, usize)> = None;
-    // Corrected first, and only a strictly nearer original point wins, so
-    // ties go to the corrected path, the one the user is inspecting.
-    for path in [&data.hips_after_cm, &data.hips_before_cm] {
+    // The result shown first (a camera take's track, else the corrected
+    // path), and only a strictly nearer point of another wins, so ties go
+    // to the path the user is inspecting.
+    for path in [&data.camera.hips_cm, &data.hips_after_cm, &data.hips_before_cm] {
         for (f, p) in path.iter().enumerate() {
             if let Some((px, py)) = view.px_of(*p) {
                 let d = (px - x).powi(2) + (py - y).powi(2);
@@ -208,6 +245,20 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn clicking_the_camera_path_in_the_top_view_seeks_there() {
+        let data = synthetic_with_camera(400);
+        for (w, h) in SIZES {
+            let l = layout_for(&data, w, h, ESTIMATE);
+            for frame in [0, 57, 200, 399] {
+                let (x, y) = camera_path_px(&data, &l, frame).expect("drawn");
+                let found = frame_at(&data, &l, x, y).expect("a frame");
+                assert!(found.abs_diff(frame) <= 1, "{w}×{h}: {frame} → {found}");
+            }
+        }
+        assert_eq!(camera_path_px(&synthetic(400), &layout(800.0, 800.0, ESTIMATE), 10), None);
     }
 
     #[test]

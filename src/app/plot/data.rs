@@ -56,6 +56,38 @@ pub struct PlotData {
     pub hips_after_cm: Vec<DVec3>,
     /// (e) the stance strip.
     pub stance: Vec<Stance>,
+    /// (d) and (f) with a camera take shown; empty without one.
+    pub camera: CameraSeries,
+}
+
+/// A camera take as the plots show it: its hips path in (d) beside the
+/// suit's own and the inertial estimate's, and in (f) per video frame the
+/// track's stated uncertainty and, given a truth, its error against it.
+/// The video's frames are placed on the recording's time axis where the
+/// tracker read the recording for them, so a video at another rate (or
+/// offset) lines up with the recording's plots.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CameraSeries {
+    /// Per recording frame, the track's hips (the recording's coordinates, cm).
+    pub hips_cm: Vec<DVec3>,
+    /// Per video frame, the recording's time it was read at (s): the video
+    /// frame's time plus the take's offset.
+    pub recording_time_s: Vec<f64>,
+    /// Per video frame, how far the hips may be from the track (cm, one σ);
+    /// NaN where the tracker states none.
+    pub uncertainty_cm: Vec<f64>,
+    /// Per video frame, the horizontal error against `truth_name` (cm); empty
+    /// without a truth.
+    pub error_cm: Vec<f64>,
+    /// The truth's file name, for the legend.
+    pub truth_name: String,
+}
+
+impl CameraSeries {
+    /// True when a take is shown: (d) draws its path and (f) is laid out.
+    pub fn is_shown(&self) -> bool {
+        !self.hips_cm.is_empty()
+    }
 }
 
 impl PlotData {
@@ -66,7 +98,12 @@ impl PlotData {
         let feet = [&self.foot_signal, &self.heights_before_cm, &self.heights_after_cm]
             .into_iter()
             .flat_map(|series| Foot::BOTH.map(|foot| series[foot].len()));
-        let rest = [self.hips_before_cm.len(), self.hips_after_cm.len(), self.stance.len()];
+        let rest = [
+            self.hips_before_cm.len(),
+            self.hips_after_cm.len(),
+            self.camera.hips_cm.len(),
+            self.stance.len(),
+        ];
         feet.chain(rest).max().unwrap_or(0)
     }
 }

@@ -72,17 +72,34 @@ pub(super) fn series_shapes(
     scale: ValueScale,
     color: Rgba,
 ) -> Vec<Shape> {
+    let samples = values.iter().enumerate().map(|(f, &v)| (f as f64, v));
+    placed_series_shapes(samples, values.len(), time, plot, scale, color)
+}
+
+/// As [`series_shapes`], each of the `len` samples `(frame, value)` at its
+/// own (fractional, increasing) frame, such as a video's frames on a
+/// recording's time axis. Samples outside the axis's frames are a gap.
+pub(super) fn placed_series_shapes(
+    samples: impl Iterator<Item = (f64, f64)>,
+    len: usize,
+    time: &TimeAxis,
+    plot: Rect,
+    scale: ValueScale,
+    color: Rgba,
+) -> Vec<Shape> {
+    let last = time.frames.saturating_sub(1) as f64;
+    let samples = samples.map(|(f, v)| (f, if (0.0..=last).contains(&f) { v } else { f64::NAN }));
     let mut trace = Trace::new(color, 1.5, false);
-    let point = |f: usize, v: f64| (time.x(plot, f as f64), scale.y(plot, v));
+    let point = |f: f64, v: f64| (time.x(plot, f), scale.y(plot, v));
     let columns = columns_in(plot.w);
-    if values.len() <= 2 * columns {
-        for (f, &v) in values.iter().enumerate() {
+    if len <= 2 * columns {
+        for (f, v) in samples {
             trace.push(v.is_finite().then(|| point(f, v)));
         }
         return trace.finish();
     }
     // (frame, value) of the lowest and the highest finite value in the column.
-    type Extremes = Option<((usize, f64), (usize, f64))>;
+    type Extremes = Option<((f64, f64), (f64, f64))>;
     let emit = |trace: &mut Trace, extremes: Extremes| match extremes {
         // A column without a finite value is a gap.
         None => trace.push(None),
@@ -96,7 +113,7 @@ pub(super) fn series_shapes(
     };
     let mut column = None;
     let mut extremes: Extremes = None;
-    for (f, &v) in values.iter().enumerate() {
+    for (f, v) in samples {
         let c = time.column(f, columns);
         if column != Some(c) {
             if column.is_some() {

@@ -1,9 +1,9 @@
-//! Where the five panels go on a canvas of a given size, and which panel a
-//! point is in.
+//! Where the panels go on a canvas of a given size, and which panel a point
+//! is in: (a) to (e) always, (f) with a camera take.
 
-use super::TextMeasure;
 use super::figure::{Rect, rect};
 use super::legend::{STANCE_LEGENDS, flow_legend};
+use super::{PlotData, TextMeasure};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Panel {
@@ -17,14 +17,23 @@ pub enum Panel {
     TopView,
     /// (e) the stance strip.
     Stance,
+    /// (f) with a camera take: its stated uncertainty per video frame, and
+    /// its error against a truth. Laid out between (c) and (e).
+    Camera,
 }
 
 impl Panel {
-    /// All panels, (a) to (e).
-    pub const ALL: [Panel; 5] =
-        [Panel::FootSignal, Panel::HeightsBefore, Panel::HeightsAfter, Panel::TopView, Panel::Stance];
+    /// All panels, (a) to (f).
+    pub const ALL: [Panel; 6] = [
+        Panel::FootSignal,
+        Panel::HeightsBefore,
+        Panel::HeightsAfter,
+        Panel::TopView,
+        Panel::Stance,
+        Panel::Camera,
+    ];
 
-    /// 0 for (a) to 4 for (e).
+    /// 0 for (a) to 5 for (f).
     pub fn index(self) -> usize {
         match self {
             Panel::FootSignal => 0,
@@ -32,6 +41,7 @@ impl Panel {
             Panel::HeightsAfter => 2,
             Panel::TopView => 3,
             Panel::Stance => 4,
+            Panel::Camera => 5,
         }
     }
 
@@ -61,10 +71,17 @@ pub struct Layout {
     /// True when the top view (d) sits right of the time panels, false when
     /// it sits below them.
     pub side_by_side: bool,
-    panels: [PanelRects; 5],
+    /// True when (f), the camera take's panel, is laid out.
+    pub camera_shown: bool,
+    panels: [PanelRects; 6],
 }
 
 impl Layout {
+    /// The panels laid out: (a) to (e), and (f) with a camera take.
+    pub fn shown(&self) -> impl Iterator<Item = Panel> + '_ {
+        Panel::ALL.into_iter().filter(|&p| p != Panel::Camera || self.camera_shown)
+    }
+
     /// The rectangles of `panel`.
     pub fn panel(&self, panel: Panel) -> PanelRects {
         self.panels[panel.index()]
@@ -75,8 +92,9 @@ impl Layout {
         self.panel(panel).plot
     }
 
-    /// The data areas of (a) to (e) as `[x, y, w, h]` each, flattened (20
-    /// numbers), for JavaScript and browser tests.
+    /// The data areas of (a) to (f) as `[x, y, w, h]` each, flattened (24
+    /// numbers; (f) is all zero without a camera take), for JavaScript and
+    /// browser tests.
     pub fn plot_rects_xywh(&self) -> Vec<f32> {
         self.panels.iter().flat_map(|p| [p.plot.x, p.plot.y, p.plot.w, p.plot.h]).collect()
     }
@@ -107,21 +125,32 @@ pub(super) const TICK_FONT: f32 = 0.9;
 /// top view gets the full height.
 const SIDE_BY_SIDE_ASPECT: f32 = 1.15;
 
-/// Lays the five panels out on a `width` × `height` pixel canvas, with text
-/// measured by `text`.
+/// Lays (a) to (e) out on a `width` × `height` pixel canvas, with text
+/// measured by `text`: the plots of a recording without a camera take.
+pub fn layout(width: f32, height: f32, text: TextMeasure) -> Layout {
+    layout_panels(width, height, false, text)
+}
+
+/// Lays out the panels `data` fills: (f) too when it holds a camera take.
+pub fn layout_for(data: &PlotData, width: f32, height: f32, text: TextMeasure) -> Layout {
+    layout_panels(width, height, data.camera.is_shown(), text)
+}
+
+/// Lays the panels out on a `width` × `height` pixel canvas, with text
+/// measured by `text`, (f) among them when `camera_shown`.
 ///
-/// The time panels (a), (b), (c) and (e) are stacked in one column with their
-/// plot areas aligned, so that they share a time axis (numbered under (e)),
-/// and the top view (d) goes beside them when the canvas is wide
+/// The time panels (a), (b), (c), (f) and (e) are stacked in one column with
+/// their plot areas aligned, so that they share a time axis (numbered under
+/// (e)), and the top view (d) goes beside them when the canvas is wide
 /// ([`Layout::side_by_side`]), as square as the height allows but at most 45%
 /// of the width, or below them when it is not, taking up to 36% of the
 /// height. The stance bar and all the text have fixed sizes in units of
-/// [`Layout::font_px`], which follows the canvas size; (a), (b) and (c) share
-/// what height is left equally.
+/// [`Layout::font_px`], which follows the canvas size; (a), (b), (c) and (f)
+/// share what height is left equally.
 ///
 /// Sizes that are not finite or below 1 are taken as 1; on a canvas too small
 /// for the margins, plot areas shrink to zero size rather than go negative.
-pub fn layout(width: f32, height: f32, text: TextMeasure) -> Layout {
+fn layout_panels(width: f32, height: f32, camera_shown: bool, text: TextMeasure) -> Layout {
     let sane = |v: f32| if v.is_finite() && v >= 1.0 { v } else { 1.0 };
     let (width, height) = (sane(width), sane(height));
     let f = (width / 44.0).min(height / 40.0).clamp(9.0, 24.0);
@@ -138,7 +167,7 @@ pub fn layout(width: f32, height: f32, text: TextMeasure) -> Layout {
         (rect(inner.x, inner.y, inner.w, inner.h - gap - h), rect(inner.x, inner.bottom() - h, inner.w, h))
     };
 
-    let mut panels = [PanelRects::default(); 5];
+    let mut panels = [PanelRects::default(); 6];
     let plot_in = |outer: Rect, below: f32| {
         rect(
             outer.x + MARGIN_LEFT * f,
@@ -150,9 +179,15 @@ pub fn layout(width: f32, height: f32, text: TextMeasure) -> Layout {
     let legend_rows =
         STANCE_LEGENDS.iter().map(|legend| flow_legend(legend, time_column.w, f, text).1).max().unwrap_or(0);
     let stance_h = (HEADER + STRIP + 2.0 * AXIS_ROW + LEGEND_ROW * legend_rows as f32) * f;
-    let series_plot_h = ((time_column.h - stance_h - 3.0 * gap - 3.0 * HEADER * f) / 3.0).max(0.0);
+    let series: &[Panel] = if camera_shown {
+        &[Panel::FootSignal, Panel::HeightsBefore, Panel::HeightsAfter, Panel::Camera]
+    } else {
+        &[Panel::FootSignal, Panel::HeightsBefore, Panel::HeightsAfter]
+    };
+    let n = series.len() as f32;
+    let series_plot_h = ((time_column.h - stance_h - n * gap - n * HEADER * f) / n).max(0.0);
     let mut y = time_column.y;
-    for panel in [Panel::FootSignal, Panel::HeightsBefore, Panel::HeightsAfter] {
+    for &panel in series {
         let outer = rect(time_column.x, y, time_column.w, HEADER * f + series_plot_h);
         panels[panel.index()] = PanelRects { outer, plot: plot_in(outer, 0.0) };
         y = outer.bottom() + gap;
@@ -167,12 +202,12 @@ pub fn layout(width: f32, height: f32, text: TextMeasure) -> Layout {
     );
     panels[Panel::Stance.index()] = PanelRects { outer, plot };
     panels[Panel::TopView.index()] = PanelRects { outer: top, plot: plot_in(top, 2.0 * AXIS_ROW * f) };
-    Layout { width, height, font_px: f, side_by_side, panels }
+    Layout { width, height, font_px: f, side_by_side, camera_shown, panels }
 }
 
 /// The panel whose area (title and labels included) holds (`x`, `y`).
 pub fn panel_at(layout: &Layout, x: f32, y: f32) -> Option<Panel> {
-    Panel::ALL.into_iter().find(|&p| layout.panel(p).outer.contains(x, y))
+    layout.shown().find(|&p| layout.panel(p).outer.contains(x, y))
 }
 
 #[cfg(test)]
@@ -184,28 +219,38 @@ mod tests {
     #[test]
     fn panels_fit_the_canvas_and_do_not_overlap() {
         for (w, h) in SIZES {
-            let l = layout(w, h, ESTIMATE);
-            for p in Panel::ALL {
-                let PanelRects { outer, plot } = l.panel(p);
-                let inside = |r: Rect, within: Rect| {
-                    r.x >= within.x - 1e-3
-                        && r.y >= within.y - 1e-3
-                        && r.right() <= within.right() + 1e-3
-                        && r.bottom() <= within.bottom() + 1e-3
-                };
-                assert!(inside(outer, Rect::new(0.0, 0.0, w, h)), "{p:?} {outer:?} outside {w}×{h}");
-                assert!(inside(plot, outer), "{p:?} plot {plot:?} outside {outer:?} at {w}×{h}");
-                assert!(plot.w > 50.0 && plot.h > 10.0, "{p:?} plot {plot:?} too small at {w}×{h}");
-                for q in Panel::ALL.into_iter().filter(|&q| q != p) {
-                    assert!(!outer.overlaps(l.panel(q).outer), "{p:?} overlaps {q:?} at {w}×{h}");
+            for data in [synthetic(100), synthetic_with_camera(100)] {
+                let l = layout_for(&data, w, h, ESTIMATE);
+                assert_eq!(l.shown().count(), if data.camera.is_shown() { 6 } else { 5 });
+                for p in l.shown() {
+                    let PanelRects { outer, plot } = l.panel(p);
+                    let inside = |r: Rect, within: Rect| {
+                        r.x >= within.x - 1e-3
+                            && r.y >= within.y - 1e-3
+                            && r.right() <= within.right() + 1e-3
+                            && r.bottom() <= within.bottom() + 1e-3
+                    };
+                    assert!(inside(outer, Rect::new(0.0, 0.0, w, h)), "{p:?} {outer:?} outside {w}×{h}");
+                    assert!(inside(plot, outer), "{p:?} plot {plot:?} outside {outer:?} at {w}×{h}");
+                    assert!(plot.w > 50.0 && plot.h > 10.0, "{p:?} plot {plot:?} too small at {w}×{h}");
+                    for q in l.shown().filter(|&q| q != p) {
+                        assert!(!outer.overlaps(l.panel(q).outer), "{p:?} overlaps {q:?} at {w}×{h}");
+                    }
                 }
+                // The time panels' plots line up, so one cursor crosses them all.
+                let a = l.plot(Panel::FootSignal);
+                for p in l.shown().filter(|p| p.is_time()) {
+                    assert_eq!((l.plot(p).x, l.plot(p).w), (a.x, a.w));
+                }
+                assert_eq!(l.plot_rects_xywh().len(), 24);
             }
-            // The time panels' plots line up, so one cursor crosses them all.
-            let a = l.plot(Panel::FootSignal);
-            for p in [Panel::HeightsBefore, Panel::HeightsAfter, Panel::Stance] {
-                assert_eq!((l.plot(p).x, l.plot(p).w), (a.x, a.w));
-            }
-            assert_eq!(l.plot_rects_xywh().len(), 20);
+            // (f) between (c) and (e), and nowhere without a take.
+            let l = layout_for(&synthetic_with_camera(100), w, h, ESTIMATE);
+            let (c, f, e) = (l.plot(Panel::HeightsAfter), l.plot(Panel::Camera), l.plot(Panel::Stance));
+            assert!(c.bottom() < f.y && f.bottom() < e.y, "{w}×{h}");
+            let l = layout(w, h, ESTIMATE);
+            let f = l.panel(Panel::Camera).outer;
+            assert_eq!(panel_at(&l, f.x, f.y), panel_at(&l, f.x, f.y).filter(|&p| p != Panel::Camera));
         }
         assert!(layout(1600.0, 500.0, ESTIMATE).side_by_side);
         assert!(!layout(495.0, 550.0, ESTIMATE).side_by_side);

@@ -92,6 +92,18 @@ pub(super) const PATH_LEGEND: [LegendItem; 2] = [
     item(Swatch::Line(theme::ORIGINAL, true), "original"),
     item(Swatch::Line(theme::CORRECTED, false), "corrected"),
 ];
+/// (d) with a camera take: the suit's own path, the inertial estimate (the
+/// method's correction) and the camera's track.
+pub(super) const CAMERA_PATH_LEGEND: [LegendItem; 3] = [
+    item(Swatch::Line(theme::ORIGINAL, true), "suit"),
+    item(Swatch::Line(theme::CORRECTED, false), "inertial"),
+    item(Swatch::Line(theme::CAMERA, false), "camera"),
+];
+/// (f): the camera track's stated uncertainty, and its error against a truth.
+pub(super) const CAMERA_SERIES_LEGEND: [LegendItem; 2] = [
+    item(Swatch::Line(theme::CAMERA, false), "uncertainty (1σ)"),
+    item(Swatch::Line(theme::TRACK_ERROR, false), "error"),
+];
 /// The paper method's stance legend in groups that are kept on one row when
 /// they fit.
 pub(super) const STANCE_LEGEND: [&[LegendItem]; 3] = [

@@ -43,9 +43,9 @@ mod panels;
 mod testing;
 mod text;
 
-pub use cursor::{draw, draw_cursor, frame_at};
-pub use data::{PlotData, Stance, StanceReason};
+pub use cursor::{camera_path_px, draw, draw_cursor, frame_at};
+pub use data::{CameraSeries, PlotData, Stance, StanceReason};
 pub use figure::{Align, DASH_PX, FONT_FAMILY, Figure, Rect, Shape};
-pub use layout::{Layout, Panel, PanelRects, layout, panel_at};
+pub use layout::{Layout, Panel, PanelRects, layout, layout_for, panel_at};
 pub use panels::draw_static;
 pub use text::TextMeasure;

@@ -1,19 +1,22 @@
 //! Drawing each panel's static part: titles, legends, axes, grids and data.
 
 use super::axes::{TimeAxis, TopView, ValueScale, multiples, nice_ticks, tick_budget, tick_label, x_ticks};
-use super::decimate::{columns_in, path_shapes, series_shapes};
+use super::decimate::{columns_in, path_shapes, placed_series_shapes, series_shapes};
 use super::figure::{Align, Figure, Rect, TextStyle};
 use super::layout::{AXIS_ROW, HEADER, LEGEND_ROW, TICK_FONT};
 use super::legend::{
-    FEET_BEFORE_LEGEND, FEET_LEGEND, ITEM_GAP, LegendItem, PATH_LEGEND, STANCE_KINDS, draw_legend_item,
-    flow_legend, legend_item_width, stance_color, stance_index, stance_legend,
+    CAMERA_PATH_LEGEND, CAMERA_SERIES_LEGEND, FEET_BEFORE_LEGEND, FEET_LEGEND, ITEM_GAP, LegendItem,
+    PATH_LEGEND, STANCE_KINDS, draw_legend_item, flow_legend, legend_item_width, stance_color, stance_index,
+    stance_legend,
 };
-use super::{Layout, Panel, PanelRects, PlotData, Stance, TextMeasure};
+use super::{CameraSeries, Layout, Panel, PanelRects, PlotData, Stance, TextMeasure};
 use crate::app::theme::{self, Rgba};
 use crate::body::feet::PerFoot;
 
 /// The panel's header: `legend` flush right (stopping `reserve_px` short of
-/// the edge), and left of it the first of `titles` that fits.
+/// the edge), and left of it the first of `titles` that fits. Where none
+/// fits beside the whole legend, its first items make room: the panel's
+/// name comes first.
 fn draw_header(
     fig: &mut Figure,
     outer: Rect,
@@ -23,8 +26,17 @@ fn draw_header(
     reserve_px: f32,
 ) {
     let y = outer.y + HEADER * font_px / 2.0;
+    let legend_left = |items: &[LegendItem]| {
+        let widths: f32 =
+            items.iter().map(|it| legend_item_width(it, font_px, text) + ITEM_GAP * font_px).sum();
+        outer.right() - reserve_px - widths
+    };
+    let shortest = titles.last().map_or(0.0, |t| text.width_px(t, font_px));
+    let shown = (0..=legend.len())
+        .find(|&first| shortest <= legend_left(&legend[first..]) - outer.x)
+        .map_or(&legend[legend.len()..], |first| &legend[first..]);
     let mut right = outer.right() - reserve_px;
-    for it in legend.iter().rev() {
+    for it in shown.iter().rev() {
         right -= legend_item_width(it, font_px, text);
         draw_legend_item(fig, it, right, y, font_px);
         right -= ITEM_GAP * font_px;
@@ -171,9 +183,53 @@ fn draw_top_view(fig: &mut Figure, layout: &Layout, data: &PlotData, text: TextM
     draw_x_axis(fig, plot, f, &labelled, "x (cm)");
     fig.shapes.extend(path_shapes(&data.hips_before_cm, &view, theme::ORIGINAL, 1.5, true));
     fig.shapes.extend(path_shapes(&data.hips_after_cm, &view, theme::CORRECTED, 2.0, false));
+    // The camera's path on top: with a take, it is the result shown.
+    fig.shapes.extend(path_shapes(&data.camera.hips_cm, &view, theme::CAMERA, 2.0, false));
     let titles =
         ["(d) hips path on the floor, seen from above", "(d) hips path, from above", "(d) hips path", "(d)"];
-    draw_header(fig, outer, (f, text), &titles, &PATH_LEGEND, 0.0);
+    let legend: &[LegendItem] =
+        if data.camera.hips_cm.is_empty() { &PATH_LEGEND } else { &CAMERA_PATH_LEGEND };
+    draw_header(fig, outer, (f, text), &titles, legend, 0.0);
+}
+
+/// The scale of (f): from no distance to the largest uncertainty or error.
+pub(super) fn camera_scale(camera: &CameraSeries) -> ValueScale {
+    ValueScale::from_zero(&[&camera.uncertainty_cm, &camera.error_cm])
+}
+
+/// Where video frame `i` of a camera take sits on the time axis: the
+/// recording's (fractional) frame it was read at.
+pub(super) fn video_frame_at(camera: &CameraSeries, time: &TimeAxis, i: usize) -> f64 {
+    camera.recording_time_s[i] * time.fps.unwrap_or(1.0)
+}
+
+/// (f): the camera track's stated uncertainty per video frame and, with a
+/// truth, its error against it, both in cm on the recording's time axis.
+fn draw_camera_panel(fig: &mut Figure, layout: &Layout, time: &TimeAxis, data: &PlotData, text: TextMeasure) {
+    let f = layout.font_px;
+    let camera = &data.camera;
+    let PanelRects { outer, plot } = layout.panel(Panel::Camera);
+    fig.fill(plot, theme::PLOT_BACKGROUND);
+    let scale = camera_scale(camera);
+    draw_time_grid(fig, plot, time, (f, text));
+    draw_y_ticks(fig, plot, f, nice_ticks(scale.lo, scale.hi, y_tick_budget(plot, f)), |v| scale.y(plot, v));
+    draw_y_title(fig, outer, plot, (f, text), &["distance (cm)", "cm"]);
+    for (values, color) in [(&camera.uncertainty_cm, theme::CAMERA), (&camera.error_cm, theme::TRACK_ERROR)] {
+        let samples = values.iter().enumerate().map(|(i, &v)| (video_frame_at(camera, time, i), v));
+        fig.shapes.extend(placed_series_shapes(samples, values.len(), time, plot, scale, color));
+    }
+    let (legend, titles): (&[LegendItem], Vec<String>) = if camera.error_cm.is_empty() {
+        let titles = ["(f) camera track: its stated uncertainty", "(f) camera: uncertainty", "(f)"];
+        (&CAMERA_SERIES_LEGEND[..1], titles.map(String::from).to_vec())
+    } else {
+        let long =
+            format!("(f) camera track: its stated uncertainty and its error against {}", camera.truth_name);
+        let short = format!("(f) camera: uncertainty, error against {}", camera.truth_name);
+        let titles = [long, short, "(f) camera: uncertainty, error".into(), "(f)".into()];
+        (&CAMERA_SERIES_LEGEND[..], titles.to_vec())
+    };
+    let titles: Vec<&str> = titles.iter().map(String::as_str).collect();
+    draw_header(fig, outer, (f, text), &titles, legend, 0.0);
 }
 
 /// The stance bar: one colour per pixel column, the stance most frames in
@@ -192,7 +248,7 @@ fn draw_stance_bar(fig: &mut Figure, plot: Rect, time: &TimeAxis, stance: &[Stan
         (count > 0).then_some(kind)
     };
     for (f, s) in stance.iter().enumerate() {
-        let c = time.column(f, columns);
+        let c = time.column(f as f64, columns);
         if column != Some(c) {
             if let Some(prev) = column {
                 kinds[prev] = majority(&counts);
@@ -260,7 +316,7 @@ fn draw_stance_panel(
 }
 
 /// Everything that does not move with the time cursor: titles, legends,
-/// axes with numbered ticks, grids, and the data of all five panels. Long
+/// axes with numbered ticks, grids, and the data of every panel laid out. Long
 /// series are decimated (see `series_shapes`, `path_shapes` and
 /// `draw_stance_bar`), so the figure stays a few thousand points whatever
 /// the recording's length; it is meant to be painted once per recording,
@@ -304,6 +360,9 @@ pub fn draw_static(data: &PlotData, layout: &Layout, text: TextMeasure) -> Figur
     for p in &panels {
         draw_series_panel(&mut fig, layout, &time, p, text);
     }
+    if layout.camera_shown {
+        draw_camera_panel(&mut fig, layout, &time, data, text);
+    }
     draw_top_view(&mut fig, layout, data, text);
     draw_stance_panel(&mut fig, layout, &time, &data.stance, text);
     fig
@@ -317,12 +376,13 @@ mod tests {
 
     #[test]
     fn every_panel_draws_the_demo() {
-        let data = demo_data();
-        for (w, h) in SIZES {
-            let l = layout(w, h, ESTIMATE);
-            let fig = draw_static(&data, &l, ESTIMATE);
+        for (data, (w, h)) in
+            [demo_data(), with_camera(demo_data())].iter().flat_map(|d| SIZES.map(|s| (d, s)))
+        {
+            let l = layout_for(data, w, h, ESTIMATE);
+            let fig = draw_static(data, &l, ESTIMATE);
             assert!(all_finite(&fig));
-            for p in Panel::ALL {
+            for p in l.shown() {
                 let PanelRects { outer, plot } = l.panel(p);
                 let in_outer = fig.shapes.iter().filter(|s| {
                     let (x, y) = anchor(s);
@@ -359,20 +419,144 @@ mod tests {
                 assert!(data_shapes >= expected, "{p:?} at {w}×{h}: {data_shapes} data shapes");
             }
             // Titles say which panel is which.
-            for letter in ["(a)", "(b)", "(c)", "(d)", "(e)"] {
+            let letters: &[&str] = if data.camera.is_shown() {
+                &["(a)", "(b)", "(c)", "(d)", "(e)", "(f)"]
+            } else {
+                &["(a)", "(b)", "(c)", "(d)", "(e)"]
+            };
+            for letter in letters {
                 assert!(
                     fig.shapes
                         .iter()
-                        .any(|s| matches!(s, Shape::Text { text, .. } if text.starts_with(letter)))
+                        .any(|s| matches!(s, Shape::Text { text, .. } if text.starts_with(letter))),
+                    "{letter} at {w}×{h}"
                 );
             }
-            let cursor = draw_cursor(&data, 300, &l, ESTIMATE);
+            let cursor = draw_cursor(data, 300, &l, ESTIMATE);
             assert!(all_finite(&cursor));
             let lines = cursor.shapes.iter().filter(|s| matches!(s, Shape::Polyline { .. })).count();
             let dots = cursor.shapes.iter().filter(|s| matches!(s, Shape::Circle { .. })).count();
-            assert_eq!(lines, 4, "a cursor line on (a), (b), (c) and (e)");
-            assert_eq!(dots, 2 * (6 + 2), "a haloed dot per foot in (a)-(c) and per path in (d)");
+            if data.camera.is_shown() {
+                assert_eq!(lines, 5, "a cursor line on (a), (b), (c), (f) and (e)");
+                assert_eq!(
+                    dots,
+                    2 * (6 + 3 + 2),
+                    "haloed dots: a foot in (a)-(c), a path in (d), a series in (f)"
+                );
+            } else {
+                assert_eq!(lines, 4, "a cursor line on (a), (b), (c) and (e)");
+                assert_eq!(dots, 2 * (6 + 2), "a haloed dot per foot in (a)-(c) and per path in (d)");
+            }
         }
+    }
+
+    #[test]
+    fn a_camera_take_draws_its_path_beside_the_others_in_d() {
+        // The camera's path 4 m beside the inertial one, so (d) must widen
+        // to hold it.
+        let data = synthetic_with_camera(400);
+        for (w, h) in SIZES {
+            let l = layout_for(&data, w, h, ESTIMATE);
+            let plot = l.plot(Panel::TopView);
+            let fig = draw_static(&data, &l, ESTIMATE);
+            let camera_lines: Vec<&Vec<(f32, f32)>> = fig
+                .shapes
+                .iter()
+                .filter_map(|s| match s {
+                    // Not the legend's swatch, a line of two points.
+                    Shape::Polyline { points, color, .. }
+                        if *color == theme::CAMERA
+                            && points.len() > 2
+                            && l.panel(Panel::TopView).outer.contains(points[0].0, points[0].1) =>
+                    {
+                        Some(points)
+                    }
+                    _ => None,
+                })
+                .collect();
+            let points = camera_lines.iter().map(|p| p.len()).sum::<usize>();
+            assert!(points > 10, "{w}×{h}: the camera path has {points} points");
+            assert!(camera_lines.iter().flat_map(|p| p.iter()).all(|&(x, y)| plot.contains(x, y)));
+            // The page's sizes name all three; the tests' 400 × 300 only
+            // has room for the panel's name and the result shown.
+            let words: &[&str] = if w >= 495.0 { &["suit", "inertial", "camera"] } else { &["camera"] };
+            for word in words {
+                assert!(
+                    texts_in(&fig, l.panel(Panel::TopView).outer).contains(word),
+                    "{w}×{h}: no {word:?} in (d)'s legend"
+                );
+            }
+            // The cursor's dot on the camera path, where the take has it.
+            let frame = 250;
+            let cursor = draw_cursor(&data, frame, &l, ESTIMATE);
+            let dot = cursor.shapes.iter().find_map(|s| match s {
+                Shape::Circle { x, y, color, .. } if *color == theme::CAMERA && plot.contains(*x, *y) => {
+                    Some((*x, *y))
+                }
+                _ => None,
+            });
+            let expected = TopView::new(&data, plot).px_of(data.camera.hips_cm[frame]);
+            assert_eq!(dot, expected, "{w}×{h}: the dot on the camera path at frame {frame}");
+        }
+        // Without a take, (d) is as before: two paths, no camera.
+        let fig = draw_static(&synthetic(400), &layout(1600.0, 500.0, ESTIMATE), ESTIMATE);
+        assert!(
+            !fig.shapes.iter().any(|s| matches!(s, Shape::Polyline { color, .. } if *color == theme::CAMERA))
+        );
+    }
+
+    #[test]
+    fn a_camera_take_plots_its_uncertainty_and_error_per_video_frame_in_f() {
+        let data = synthetic_with_camera(400);
+        let time = TimeAxis::new(&data);
+        let video_frames = data.camera.recording_time_s.len();
+        for (w, h) in SIZES {
+            let l = layout_for(&data, w, h, ESTIMATE);
+            let PanelRects { outer, plot } = l.panel(Panel::Camera);
+            let fig = draw_static(&data, &l, ESTIMATE);
+            for color in [theme::CAMERA, theme::TRACK_ERROR] {
+                let points: Vec<(f32, f32)> = fig
+                    .shapes
+                    .iter()
+                    .filter_map(|s| match s {
+                        Shape::Polyline { points, color: c, .. } if *c == color && points.len() > 2 => {
+                            Some(points)
+                        }
+                        _ => None,
+                    })
+                    .flatten()
+                    .copied()
+                    .filter(|&(x, y)| outer.contains(x, y))
+                    .collect();
+                // Each video frame at the recording frame it was read at:
+                // the first at the axis's start, the last 3/5 along it.
+                assert!(points.len() >= video_frames.min(2 * columns_in(plot.w)) / 2, "{w}×{h}: {color:?}");
+                assert!(points.iter().all(|&(x, y)| plot.contains(x, y)), "{w}×{h}: {color:?} outside (f)");
+                let last_at = video_frame_at(&data.camera, &time, video_frames - 1);
+                assert!((points[0].0 - plot.x).abs() < 1e-3, "{w}×{h}");
+                assert!((points[points.len() - 1].0 - time.x(plot, last_at)).abs() < 1e-3, "{w}×{h}");
+            }
+            let texts = texts_in(&fig, outer);
+            assert!(texts.iter().any(|t| t.starts_with("(f)")), "{w}×{h}: {texts:?}");
+            // A click in (f) seeks the recording frame under it.
+            let x = time.x(plot, 120.0);
+            assert_eq!(frame_at(&data, &l, x, plot.y + plot.h / 2.0), Some(120), "{w}×{h}");
+        }
+        let l = layout_for(&data, 2400.0, 1300.0, ESTIMATE);
+        let fig = draw_static(&data, &l, ESTIMATE);
+        let texts = texts_in(&fig, l.panel(Panel::Camera).outer);
+        assert!(texts.iter().any(|t| t.contains("walk.truth.csv")), "the truth named: {texts:?}");
+        assert!(texts.contains(&"uncertainty (1σ)") && texts.contains(&"error"), "{texts:?}");
+        // Without a truth, the uncertainty alone.
+        let mut no_truth = data.clone();
+        (no_truth.camera.error_cm, no_truth.camera.truth_name) = (Vec::new(), String::new());
+        let fig = draw_static(&no_truth, &l, ESTIMATE);
+        assert!(
+            !fig.shapes
+                .iter()
+                .any(|s| matches!(s, Shape::Polyline { color, .. } if *color == theme::TRACK_ERROR))
+        );
+        assert!(!texts_in(&fig, l.panel(Panel::Camera).outer).contains(&"error"));
     }
 
     #[test]

@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use super::legend::STANCE_KINDS;
-use super::{Figure, PlotData, Rect, Shape, Stance, StanceReason, TextMeasure};
+use super::{CameraSeries, Figure, PlotData, Rect, Shape, Stance, StanceReason, TextMeasure};
 use crate::body::feet::{Foot, PerFoot};
 
 /// The text measure of every test: the fixed estimate.
@@ -48,7 +48,33 @@ pub(super) fn synthetic(n: usize) -> PlotData {
                 k => STANCE_KINDS[k % 7],
             })
             .collect(),
+        camera: CameraSeries::default(),
     }
+}
+
+/// `data` with a camera take: its path 4 m beside the corrected one, and a
+/// video at 3/5 of the recording's rate whose uncertainty and error rise
+/// and fall.
+pub(super) fn with_camera(mut data: PlotData) -> PlotData {
+    let n = data.hips_after_cm.len();
+    let hips_cm = data.hips_after_cm.iter().map(|p| *p + DVec3::new(400.0, 0.0, 0.0)).collect();
+    let video_frames = n * 3 / 5;
+    let recording_time_s: Vec<f64> = (0..video_frames).map(|i| i as f64 * 5.0 / 3.0 / data.fps).collect();
+    let uncertainty_cm = recording_time_s.iter().map(|t| 3.0 + 2.0 * (t * 2.5).sin()).collect();
+    let error_cm = recording_time_s.iter().map(|t| 4.0 + 3.0 * (t * 4.0).cos()).collect();
+    data.camera = CameraSeries {
+        hips_cm,
+        recording_time_s,
+        uncertainty_cm,
+        error_cm,
+        truth_name: "walk.truth.csv".into(),
+    };
+    data
+}
+
+/// [`synthetic`] with a camera take ([`with_camera`]).
+pub(super) fn synthetic_with_camera(n: usize) -> PlotData {
+    with_camera(synthetic(n))
 }
 
 /// `n` frames of [`synthetic`] data whose stances are the contact method's.
