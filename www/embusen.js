@@ -124,6 +124,7 @@ const PLAYBACK_CONTROLS = `
   <label><input type="checkbox" data-action="loop"> loop</label>
   <label><input type="checkbox" data-action="follow"> follow</label>
   <label><input type="checkbox" data-action="solid"> solid</label>
+  <label title="the body's soft shadow on the floor: how high it is"><input type="checkbox" data-action="shadow"> shadow</label>
   <label>original <select data-action="ghost"></select></label>`;
 
 /**
@@ -191,6 +192,8 @@ function wirePlayback({ player, choices, get, showError, signal }, setPlaying) {
   follow.checked = defaults.follow;
   const solid = get("[data-action=solid]", HTMLInputElement);
   solid.checked = defaults.solid;
+  const shadow = get("[data-action=shadow]", HTMLInputElement);
+  shadow.checked = defaults.shadow;
   const slider = get(".slider", HTMLInputElement);
   get("[data-action=play]", HTMLButtonElement).addEventListener("click", () => setPlaying(!player.playing()), { signal });
   slider.addEventListener("input", () => player.set_frame(+slider.value), { signal });
@@ -213,6 +216,7 @@ function wirePlayback({ player, choices, get, showError, signal }, setPlaying) {
   looping.addEventListener("change", () => player.set_looping(looping.checked), { signal });
   follow.addEventListener("change", () => player.set_follow(follow.checked), { signal });
   solid.addEventListener("change", () => player.set_solid(solid.checked), { signal });
+  shadow.addEventListener("change", () => player.set_shadow(shadow.checked), { signal });
   ghost.addEventListener("change", guarded(() => player.set_ghost(/** @type {import("./pkg/embusen.js").Ghost} */ (ghost.value))), { signal });
 }
 

@@ -11,6 +11,7 @@ pub mod calibration;
 pub mod clock;
 pub mod finished_take;
 pub mod frame_layers;
+pub mod framing;
 pub mod plot;
 pub mod session;
 pub mod theme;

@@ -47,6 +47,10 @@ pub const CORRECTED_SKELETON: Rgba = Rgba(235, 235, 240, 255);
 pub const ORIGINAL_SKELETON: Rgba = Rgba(120, 160, 255, 90);
 /// The lines of the floor grid.
 pub const FLOOR_GRID: Rgba = Rgba(70, 74, 82, 255);
+/// The soft shadow each joint of the body casts straight down on the
+/// floor, at its darkest (a joint on the floor); fainter and wider the
+/// higher the joint, so that the body's height above the floor reads.
+pub const FLOOR_SHADOW: Rgba = Rgba(0, 0, 0, 190);
 /// Behind the scene.
 pub const VIEW_BACKGROUND: Rgba = Rgba(28, 31, 36, 255);
 

@@ -147,6 +147,8 @@ pub struct Defaults {
     /// Whether the body is drawn solid (the body model scaled to the
     /// skeleton), not as a stick figure.
     pub solid: bool,
+    /// Whether the body casts its soft shadow on the floor.
+    pub shadow: bool,
     pub ghost: Ghost,
 }
 
@@ -176,6 +178,10 @@ pub const FOLLOW_DEFAULT: bool = false;
 /// joints the file holds.
 pub const SOLID_DEFAULT: bool = true;
 
+/// Whether a new player draws the body's shadow: without it, how high the
+/// body is above the floor cannot be read in the 3D view.
+pub const SHADOW_DEFAULT: bool = true;
+
 impl Options {
     pub fn new() -> Options {
         let clock = Clock::default();
@@ -201,6 +207,7 @@ impl Options {
                 looping: clock.looping(),
                 follow: FOLLOW_DEFAULT,
                 solid: SOLID_DEFAULT,
+                shadow: SHADOW_DEFAULT,
                 ghost: Ghost::default(),
             },
         }

@@ -89,6 +89,7 @@ impl Player {
         let mut scene = Scene::new(context);
         scene.follow = api::FOLLOW_DEFAULT;
         scene.set_solid(api::SOLID_DEFAULT);
+        scene.set_shadow(api::SHADOW_DEFAULT);
         scene.ghost = Ghost::default();
         Ok(Player {
             plots_2d: context_2d(&plots)?,
@@ -437,6 +438,13 @@ impl Player {
 
     pub fn set_follow(&mut self, follow: bool) {
         self.scene.follow = follow;
+        self.scene_dirty = true;
+    }
+
+    /// Lets the body (every recording's, a camera take's) cast its soft
+    /// shadow on the floor, or not.
+    pub fn set_shadow(&mut self, shadow: bool) {
+        self.scene.set_shadow(shadow);
         self.scene_dirty = true;
     }
 

@@ -7,6 +7,13 @@
 //! of cylinders and grid lines of cylinders cost software WebGL ~150 ms a frame.) Positions arrive in the recording's
 //! centimetres and are drawn in metres, turned upright by `world_from_recording`.
 //!
+//! Under the body a soft shadow: one blurred disc per joint, straight below
+//! it on the floor, darker and tighter the nearer the joint is to the floor
+//! (the look of a contact shadow under a light from above: a jump lifts the
+//! feet's discs away, a stance presses them dark). One instanced quad, a
+//! few dozen instances: no shadow map, whose depth pass would double the
+//! software GPU's work a frame.
+//!
 //! A camera-tracked take ([`CameraTake`]) replaces the corrected stick figure
 //! with the body model, solid, at the camera track's hips (one mesh, rebuilt
 //! when the frame changes), draws the camera's frustum (eight thin
@@ -30,11 +37,24 @@ const PINNED_RADIUS_M: f32 = 0.06;
 const MAX_TRAIL_SEGMENTS: usize = 3000;
 const TRAIL_HALF_WIDTH_M: f32 = 0.012;
 
+/// The 3D view's vertical field of view.
+const VERTICAL_FOV_DEG: f32 = 45.0;
+/// How tall the body is framed above the floor (m), with its paths.
+const FRAMED_HEIGHT_M: f32 = 2.0;
 /// Grid spacing on the floor.
 const GRID_CELL_M: f32 = 0.5;
 /// Meridians of each sphere and sides of each cone of the solid body: round
 /// enough, and a few thousand triangles that software WebGL draws at once.
 const BODY_SEGMENTS: u32 = 10;
+/// A joint's shadow: its radius on the floor, and how fast it widens and
+/// fades with the joint's height above the floor (m).
+const SHADOW_RADIUS_M: f32 = 0.12;
+const SHADOW_WIDENING_PER_M: f32 = 0.25;
+const SHADOW_FADE_HEIGHT_M: f32 = 0.7;
+/// Joints higher than this above the floor cast no disc of their own (the
+/// hips' stands for the trunk): a software GPU pays for every blended pixel,
+/// and the trunk's wide, faint discs would cover one another a dozen times.
+const SHADOW_MAX_HEIGHT_M: f32 = 0.6;
 /// The camera frustum's lines, as cylinders of this radius.
 const FRUSTUM_RADIUS_M: f32 = 0.012;
 
@@ -94,10 +114,21 @@ pub struct Scene {
     trails: Gm<Mesh, ColorMaterial>,
     /// The floor: one quad under the whole path, textured with one grid cell.
     grid: Gm<Mesh, ColorMaterial>,
+    /// The floor's height in the world (m): the shadows lie on it.
+    floor_y: f32,
+    /// Whether the body casts its soft shadow ([`Scene::set_shadow`]).
+    shadow: bool,
+    /// The shadow: a soft disc under each joint of the body drawn.
+    shadows: Gm<InstancedMesh, ColorMaterial>,
     /// The hips joint, which follow mode keeps in view.
     hips: usize,
     ambient: AmbientLight,
     sun: DirectionalLight,
+    /// What the view frames: a sphere around the orbit's target holding the
+    /// floor paths and the body above them (m), and the view's aspect it was
+    /// last fitted to (NaN: fit again at the next render).
+    framed_radius_m: f32,
+    framed_aspect: f32,
     /// Sideways offset of the ghost in side-by-side mode (m).
     side_offset: Vec3,
     /// The camera-tracked take shown, if any, and its camera's frustum.
@@ -180,6 +211,32 @@ fn add_ribbon(mesh: &mut CpuMesh, points: &[Vec3], color: Srgba) {
     }
 }
 
+/// A soft disc as a texture: black, opaque at the centre and fading to
+/// nothing at the edge ((1 − r)², r the distance from the centre over the
+/// radius), as a shadow cast by a light the size of the sky.
+fn soft_disc(context: &Context) -> Texture2DRef {
+    const SIZE: usize = 32;
+    let data: Vec<[u8; 4]> = (0..SIZE * SIZE)
+        .map(|i| {
+            let centred = |v: usize| (v as f32 + 0.5) / SIZE as f32 * 2.0 - 1.0;
+            let r = centred(i % SIZE).hypot(centred(i / SIZE)).min(1.0);
+            [0, 0, 0, (255.0 * (1.0 - r).powi(2)) as u8]
+        })
+        .collect();
+    let texture = Texture2D::new_empty::<[u8; 4]>(
+        context,
+        SIZE as u32,
+        SIZE as u32,
+        Interpolation::Linear,
+        Interpolation::Linear,
+        None,
+        Wrapping::ClampToEdge,
+        Wrapping::ClampToEdge,
+    );
+    texture.fill(&data);
+    Texture2DRef::from_texture(texture)
+}
+
 /// One grid cell as a texture: a line along two edges, transparent inside;
 /// repeated across the floor quad by its texture coordinates. Its texels are
 /// linear sRGB, as three-d's shaders read them.
@@ -212,7 +269,7 @@ impl Scene {
             vec3(0.0, 2.0, 5.0),
             vec3(0.0, 1.0, 0.0),
             vec3(0.0, 1.0, 0.0),
-            degrees(45.0),
+            degrees(VERTICAL_FOV_DEG),
             0.05,
             500.0,
         );
@@ -220,6 +277,19 @@ impl Scene {
         let grid = Gm::new(
             Mesh::new(&context, &CpuMesh::square()),
             flat(Srgba::WHITE, Some(grid_cell(&context)), true),
+        );
+        // A unit square on the floor (y = 0, x and z from -1 to 1).
+        let corners =
+            [vec3(-1.0, 0.0, -1.0), vec3(1.0, 0.0, -1.0), vec3(1.0, 0.0, 1.0), vec3(-1.0, 0.0, 1.0)];
+        let disc = CpuMesh {
+            positions: Positions::F32(corners.to_vec()),
+            indices: Indices::U8(vec![0, 2, 1, 0, 3, 2]),
+            uvs: Some(corners.iter().map(|c| vec2((c.x + 1.0) / 2.0, (c.z + 1.0) / 2.0)).collect()),
+            ..Default::default()
+        };
+        let shadows = Gm::new(
+            InstancedMesh::new(&context, &Instances::default(), &disc),
+            flat(srgba(theme::FLOOR_SHADOW), Some(soft_disc(&context)), true),
         );
         Scene {
             joints: instanced(&context, &sphere, srgba(theme::CORRECTED_SKELETON), false),
@@ -235,6 +305,9 @@ impl Scene {
             body_shown: false,
             trails,
             grid,
+            floor_y: 0.0,
+            shadow: true,
+            shadows,
             hips: 0,
             ambient: AmbientLight::new(&context, 0.45, Srgba::WHITE),
             sun: DirectionalLight::new(&context, 2.2, Srgba::WHITE, vec3(-0.4, -1.0, -0.6)),
@@ -246,6 +319,8 @@ impl Scene {
             ghost: Ghost::Overlay,
             world_from_recording: Mat4::identity(),
             side_offset: vec3(1.2, 0.0, 0.0),
+            framed_radius_m: 3.0,
+            framed_aspect: f32::NAN,
             take: None,
             context,
         }
@@ -272,6 +347,11 @@ impl Scene {
     pub fn set_solid(&mut self, solid: bool) {
         self.solid = solid;
         self.body_frame = None;
+    }
+
+    /// Lets the body cast its soft shadow on the floor, or not.
+    pub fn set_shadow(&mut self, shadow: bool) {
+        self.shadow = shadow;
     }
 
     /// Whether a camera-tracked take is shown.
@@ -339,6 +419,7 @@ impl Scene {
             ..Default::default()
         };
         self.grid.geometry = Mesh::new(&self.context, &quad);
+        self.floor_y = floor_y;
         let mut ribbons =
             CpuMesh { positions: Positions::F32(Vec::new()), colors: Some(Vec::new()), ..Default::default() };
         // Each trail a millimetre above the one before, so that where they
@@ -359,11 +440,13 @@ impl Scene {
         }
         self.trails.geometry = Mesh::new(&self.context, &ribbons);
         self.hips = hips;
-        // Frame the paths: look at their centre from far enough away.
+        // Frame the paths and the body on them: look at their centre from
+        // far enough away for the view's shape (fitted at the next render).
         let centre = (path_min + path_max) * 0.5;
-        let extent = (path_max - path_min).magnitude().max(2.0);
-        self.orbit.target = vec3(centre.x, floor_y + 0.9, centre.z);
-        self.orbit.distance_m = extent * 1.1 + 2.0;
+        let size = path_max - path_min;
+        self.orbit.target = vec3(centre.x, floor_y + FRAMED_HEIGHT_M / 2.0, centre.z);
+        self.framed_radius_m = 0.5 * size.x.hypot(size.z).hypot(FRAMED_HEIGHT_M).max(2.4);
+        self.framed_aspect = f32::NAN;
         let height = hips_after.first().map_or(1.0, |h| h.y - floor_y);
         self.side_offset = vec3(height.clamp(0.5, 2.0) * 1.2, 0.0, 0.0);
         let finite = |p: &Vec3| p.x.is_finite() && p.y.is_finite() && p.z.is_finite();
@@ -431,6 +514,7 @@ impl Scene {
             ..Default::default()
         });
         self.bones.set_instances(&Instances { transformations: bones, ..Default::default() });
+        self.cast_shadow(&solid, parents);
         if let Some(shift_cm) = body {
             self.set_body(original, f, shift_cm);
         }
@@ -451,6 +535,34 @@ impl Scene {
             self.orbit.target = vec3(hips.x, self.orbit.target.y, hips.z);
             self.orbit.distance_m = self.orbit.distance_m.min(6.0);
         }
+    }
+
+    /// The shadow of the body whose joints are at `points` (world, m): a
+    /// soft disc on the floor under the hips and under each joint of the
+    /// body within [`SHADOW_MAX_HEIGHT_M`] of the floor (none above the
+    /// hips, as [`Scene::skeleton_instances`]), wider and fainter the higher
+    /// the joint.
+    fn cast_shadow(&mut self, points: &[Vec3], parents: &[Option<usize>]) {
+        let above_hips = crate::body::feet::above_hips(parents, self.hips);
+        let (transformations, colors) = points
+            .iter()
+            .enumerate()
+            .filter(|(j, p)| !above_hips.contains(j) && p.x.is_finite() && p.y.is_finite() && p.z.is_finite())
+            .map(|(j, p)| (j, p, (p.y - self.floor_y).max(0.0)))
+            .filter(|&(j, _, height_m)| j == self.hips || height_m <= SHADOW_MAX_HEIGHT_M)
+            .map(|(_, p, height_m)| {
+                let radius_m = SHADOW_RADIUS_M + SHADOW_WIDENING_PER_M * height_m;
+                let darkness = 1.0 / (1.0 + height_m / SHADOW_FADE_HEIGHT_M).powi(2);
+                // A millimetre above the floor: over the grid, under the trails.
+                let at = vec3(p.x, self.floor_y + 0.001, p.z);
+                (ball(at, radius_m), Srgba::new(255, 255, 255, (255.0 * darkness) as u8))
+            })
+            .unzip();
+        self.shadows.set_instances(&Instances {
+            transformations,
+            colors: Some(colors),
+            ..Default::default()
+        });
     }
 
     /// The solid body in frame `f`: the body model in the original pose of
@@ -525,8 +637,16 @@ impl Scene {
         self.follow = false;
     }
 
-    /// Renders into the canvas (size in device pixels).
+    /// Renders into the canvas (size in device pixels). A new recording,
+    /// or a view of another shape, is framed anew: its paths and the body
+    /// whole in view.
     pub fn render(&mut self, width: u32, height: u32) {
+        let aspect = width.max(1) as f32 / height.max(1) as f32;
+        if aspect != self.framed_aspect {
+            let fov = VERTICAL_FOV_DEG.to_radians();
+            self.orbit.distance_m = crate::app::framing::distance_to_fit(self.framed_radius_m, fov, aspect);
+            self.framed_aspect = aspect;
+        }
         self.camera.set_viewport(Viewport::new_at_origo(width.max(1), height.max(1)));
         self.camera.set_view(self.orbit.position(), self.orbit.target, vec3(0.0, 1.0, 0.0));
         let lights: [&dyn Light; 2] = [&self.ambient, &self.sun];
@@ -536,7 +656,10 @@ impl Scene {
         target.clear(ClearState::color_and_depth(r, g, b, a, 1.0));
         // Lists of `&dyn Object` in both calls: one instance of three-d's
         // generic render code, not one per kind of object (each is kilobytes).
-        let floor: Vec<&dyn Object> = vec![&self.grid, &self.trails];
+        let mut floor: Vec<&dyn Object> = vec![&self.grid, &self.trails];
+        if self.shadow {
+            floor.push(&self.shadows);
+        }
         target.render(&self.camera, floor, &[]);
         let mut bodies: Vec<&dyn Object> = vec![&self.joints, &self.bones];
         if self.take.is_some() {

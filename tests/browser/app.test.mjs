@@ -8,7 +8,7 @@ import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { gzipSync } from "node:zlib";
 import {
-  startServer, launchBrowser, openApp, waitReady, countDrawnPixels, firstLoad, FIRST_LOAD_PAGES, FIRST_LOAD_LIMIT_BYTES, CLI, DATA, DIST, HAVE_DATA, SCREENSHOTS,
+  startServer, launchBrowser, openApp, waitReady, countDrawnPixels, firstLoad, viewExtent, wholeInView, FIRST_LOAD_PAGES, FIRST_LOAD_LIMIT_BYTES, CLI, DATA, DIST, HAVE_DATA, SCREENSHOTS,
 } from "./harness.mjs";
 
 let server;
@@ -513,6 +513,63 @@ test("the body is solid for every recording, the stick figure a choice away", as
   assert.equal(await page.isVisible("#app .error"), false);
   assert.deepEqual(errors, []);
   await page.close();
+});
+
+/** The 3D view's pixels, as RGB bytes. */
+const viewRgb = (page) => page.evaluate(() => {
+  const source = document.querySelector("#app canvas.view");
+  const copy = document.createElement("canvas");
+  [copy.width, copy.height] = [source.width, source.height];
+  const ctx = copy.getContext("2d");
+  ctx.drawImage(source, 0, 0);
+  return Array.from(ctx.getImageData(0, 0, copy.width, copy.height).data);
+});
+
+test("the view frames the body and its whole path wide and narrow, and the body casts a soft shadow", async () => {
+  const recordings = [["demo", ""]];
+  if (HAVE_DATA || process.env.CI === "true") {
+    recordings.push(["bandai_walk", "&src=/data/groundtruth/bandai1_walk_active_001.bvh"], ["heian_nidan", "&src=/data/karate/heian_nidan.bvh"]);
+  } else {
+    console.log(`SKIPPED: ${DATA} not found; a Bandai file and Heian Nidan were not framed`);
+  }
+  mkdirSync(SCREENSHOTS, { recursive: true });
+  for (const [name, query] of recordings) {
+    for (const [width, height] of [[1280, 800], [390, 844]]) {
+      const page = await browser.newPage({ viewport: { width, height } });
+      await page.goto(`${server.url}/?autoplay=0${query}`);
+      await waitReady(page);
+      const show = (shadow) => page.evaluate(async (shadow) => {
+        const app = document.querySelector("#app");
+        const box = app.querySelector("[data-action=shadow]");
+        if (box.checked !== shadow) box.click();
+        await new Promise((ok) => requestAnimationFrame(() => requestAnimationFrame(ok)));
+        app.embusen.player.set_frame(Math.floor(app.embusen.player.frame_count() / 2));
+        app.embusen.player.draw();
+      }, shadow);
+      assert.equal(await page.isChecked("#app [data-action=shadow]"), true, "the shadow is on by default");
+      await show(true);
+      const seen = await viewExtent(page);
+      console.log(`${name} at ${width}×${height}: the paths ${JSON.stringify(seen.path)}, the body ${JSON.stringify(seen.body)} in ${seen.width}×${seen.height}`);
+      assert.ok(wholeInView(seen.path, seen), `${name} at ${width}×${height}: the paths are cut: ${JSON.stringify(seen)}`);
+      assert.ok(wholeInView(seen.body, seen), `${name} at ${width}×${height}: the body is cut: ${JSON.stringify(seen)}`);
+      await page.locator("#app").screenshot({ path: join(SCREENSHOTS, `framed-${name}-${width}x${height}.png`) });
+      const withShadow = await viewRgb(page);
+      await show(false);
+      const without = await viewRgb(page);
+      let darker = 0;
+      let lighter = 0;
+      for (let i = 0; i < without.length; i += 4) {
+        const d = without[i] + without[i + 1] + without[i + 2] - withShadow[i] - withShadow[i + 1] - withShadow[i + 2];
+        if (d > 12) darker++;
+        if (d < -12) lighter++;
+      }
+      // On the floor around the feet: a tenth of the body's own pixels, as
+      // far from the view as the body stands.
+      console.log(`${name} at ${width}×${height}: the shadow darkens ${darker} pixels (${lighter} lighter), the body covers ${seen.body.count}`);
+      assert.ok(darker > 0.05 * seen.body.count && lighter < darker / 20, `${name}: the shadow darkens ${darker} pixels, lightens ${lighter}`);
+      await page.close();
+    }
+  }
 });
 
 test("a camera take shows the body solid at the camera track, the camera, and three paths", async (t) => {

@@ -9,7 +9,7 @@
 import { readFileSync } from "node:fs";
 import { gzipSync } from "node:zlib";
 import { join } from "node:path";
-import { startServer, launchBrowser, firstLoad, DIST, DATA, HAVE_DATA, FIRST_LOAD_PAGES, FIRST_LOAD_LIMIT_BYTES } from "./harness.mjs";
+import { startServer, launchBrowser, firstLoad, waitReady, DIST, DATA, HAVE_DATA, FIRST_LOAD_PAGES, FIRST_LOAD_LIMIT_BYTES } from "./harness.mjs";
 
 const PAGE = `<!doctype html><html><head>
 <script type="importmap">{"imports": {"three": "/node_modules/three/build/three.module.js"}}</script>
@@ -100,6 +100,7 @@ try {
     const largest = sizes.toSorted((a, b) => b[1] - a[1]).slice(0, 3).map(([p, s]) => `${p} ${(s / 1000).toFixed(1)}`);
     console.log(`  ${path.padEnd(12)} ${(total / 1000).toFixed(1)} KB (gate ${FIRST_LOAD_LIMIT_BYTES / 1000} KB; largest: ${largest.join(", ")})`);
   }
+  await printDemoFrameRate(browser, server);
   if (HAVE_DATA) await printTimings(browser, server);
   else console.log(`SKIPPED: ${DATA} not found; no browser timing figures`);
 } finally {
@@ -119,4 +120,37 @@ async function printTimings(browser, server) {
   const first = ([issued, done]) => `${issued.toFixed(1)} ms issued, ${done.toFixed(1)} ms rendered by the software GPU`;
   console.log(`  bytes → first frame, heian_nidan.bvh: ${first(r.firstNidan)} (goal ≤ 100 ms)`);
   console.log(`  bytes → first frame, ${r.frames} frames (${r.bigMB.toFixed(1)} MB): ${first(r.firstBig)} (goal < 1000 ms)`);
+}
+
+/**
+ * The demo playing in the page at 1280×800: the page's frames a second
+ * (animation frames, each the player's tick and draw), with the body's
+ * shadow on and off, side by side.
+ */
+async function printDemoFrameRate(browser, server) {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  try {
+    await page.goto(server.url + "/");
+    await waitReady(page, "#app");
+    const rate = (shadow) => page.evaluate(async (shadow) => {
+      const app = document.querySelector("#app");
+      const box = app.querySelector("[data-action=shadow]");
+      if (box.checked !== shadow) box.click();
+      if (!app.embusen.player.playing()) app.querySelector("[data-action=play]").click();
+      await new Promise((ok) => setTimeout(ok, 500));
+      const [first, start] = [app.embusen.player.frame(), performance.now()];
+      let frames = 0;
+      await new Promise((ok) => {
+        const step = () => (++frames, performance.now() - start < 3000 ? requestAnimationFrame(step) : ok());
+        requestAnimationFrame(step);
+      });
+      const seconds = (performance.now() - start) / 1000;
+      return { fps: frames / seconds, moved: app.embusen.player.frame() !== first };
+    }, shadow);
+    const [on, off] = [await rate(true), await rate(false)];
+    const said = ({ fps, moved }) => `${fps.toFixed(1)}${moved ? "" : " (did not play)"}`;
+    console.log(`  the demo playing at 1280×800: ${said(on)} frames a second with the shadow, ${said(off)} without (goal ≥ 60)`);
+  } finally {
+    await page.close();
+  }
 }

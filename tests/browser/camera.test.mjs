@@ -11,7 +11,7 @@ import { mkdtempSync, readFileSync, rmSync, writeFileSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { mkdirSync } from "node:fs";
-import { startServer, launchBrowser, CLI, DATA, HAVE_DATA, SCREENSHOTS } from "./harness.mjs";
+import { startServer, launchBrowser, viewExtent, wholeInView, CLI, DATA, HAVE_DATA, SCREENSHOTS } from "./harness.mjs";
 
 let server;
 let browser;
@@ -405,6 +405,20 @@ test("a take tracked before opens as it is, with no worker; autotrack=1 tracks o
   const series = await page.evaluate(() => document.querySelector("#app").embusen.player.camera_take_series());
   assert.ok(series && series.uncertainty_cm.length === 195 && series.uncertainty_cm.every((u) => u > 0), JSON.stringify(series));
   assert.deepEqual(series.error_cm, []);
+  // Framed whole, wide and narrow, its body's shadow on.
+  for (const [width, height] of [[1280, 800], [390, 844]]) {
+    await page.setViewportSize({ width, height });
+    await page.waitForTimeout(300);
+    await page.evaluate(() => {
+      const { player } = document.querySelector("#app").embusen;
+      player.set_frame(100);
+      player.draw();
+    });
+    const seen = await viewExtent(page);
+    console.log(`the finished take at ${width}×${height}: the paths ${JSON.stringify(seen.path)}, the body ${JSON.stringify(seen.body)}`);
+    await page.screenshot({ path: join(SCREENSHOTS, `finished-take-${width}x${height}.png`), fullPage: true });
+    assert.ok(wholeInView(seen.path, seen) && wholeInView(seen.body, seen), `${width}×${height}: ${JSON.stringify(seen)}`);
+  }
   await page.screenshot({ path: join(SCREENSHOTS, "finished-take.png") });
   assert.deepEqual(errors, []);
   await page.close();

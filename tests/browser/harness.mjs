@@ -120,6 +120,40 @@ export const FIRST_LOAD_LIMIT_BYTES = 360_000;
 export const FIRST_LOAD_PAGES = [["/", "#app"], ["/embed.html", "#player"]];
 
 /**
+ * Where the 3D view of the player in `selector` draws the hips paths (the
+ * corrected yellow, the original blue; not a camera track's magenta, which
+ * its camera shares, standing metres away) and the light grey body: each
+ * one's bounding box in the canvas's pixels and its count, and the
+ * canvas's size.
+ */
+export const viewExtent = (page, selector = "#app") => page.evaluate((selector) => {
+  const source = document.querySelector(`${selector} canvas.view`);
+  const copy = document.createElement("canvas");
+  [copy.width, copy.height] = [source.width, source.height];
+  const ctx = copy.getContext("2d");
+  ctx.drawImage(source, 0, 0);
+  const data = ctx.getImageData(0, 0, copy.width, copy.height).data;
+  const empty = () => ({ count: 0, left: Infinity, right: -Infinity, top: Infinity, bottom: -Infinity });
+  const [path, body] = [empty(), empty()];
+  const add = (box, x, y) => {
+    box.count++;
+    [box.left, box.right, box.top, box.bottom] = [Math.min(box.left, x), Math.max(box.right, x), Math.min(box.top, y), Math.max(box.bottom, y)];
+  };
+  const near = (r, g, b, rgb) => Math.abs(r - rgb[0]) <= 40 && Math.abs(g - rgb[1]) <= 40 && Math.abs(b - rgb[2]) <= 40;
+  for (let i = 0; i < data.length; i += 4) {
+    const [r, g, b] = [data[i], data[i + 1], data[i + 2]];
+    const [x, y] = [(i / 4) % copy.width, Math.floor(i / 4 / copy.width)];
+    if (near(r, g, b, [255, 200, 40]) || near(r, g, b, [90, 140, 255])) add(path, x, y);
+    if (Math.min(r, g, b) > 110 && Math.max(r, g, b) - Math.min(r, g, b) < 30) add(body, x, y);
+  }
+  return { path, body, width: copy.width, height: copy.height };
+}, selector);
+
+/** Whether `box` of `viewExtent`'s drawing is there and whole: not cut by the view's edges. */
+export const wholeInView = (box, seen) =>
+  box.count > 50 && box.left > 0 && box.top > 0 && box.right < seen.width - 1 && box.bottom < seen.height - 1;
+
+/**
  * Counts the pixels of a canvas that differ from its background (the colour
  * at the top-left corner), optionally only within [x, y, w, h] in canvas pixels.
  */
