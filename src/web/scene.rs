@@ -211,6 +211,18 @@ fn add_ribbon(mesh: &mut CpuMesh, points: &[Vec3], color: Srgba) {
     }
 }
 
+/// A rectangle on the floor at height `y` over `x` and `z` (each from, to),
+/// facing up, its texture coordinates `uv_of` each corner.
+fn floor_quad(x: (f32, f32), z: (f32, f32), y: f32, uv_of: impl Fn(Vec3) -> Vec2) -> CpuMesh {
+    let corners = [vec3(x.0, y, z.0), vec3(x.1, y, z.0), vec3(x.1, y, z.1), vec3(x.0, y, z.1)];
+    CpuMesh {
+        positions: Positions::F32(corners.to_vec()),
+        indices: Indices::U8(vec![0, 2, 1, 0, 3, 2]),
+        uvs: Some(corners.iter().map(|c| uv_of(*c)).collect()),
+        ..Default::default()
+    }
+}
+
 /// A soft disc as a texture: black, opaque at the centre and fading to
 /// nothing at the edge ((1 − r)², r the distance from the centre over the
 /// radius), as a shadow cast by a light the size of the sky.
@@ -223,17 +235,30 @@ fn soft_disc(context: &Context) -> Texture2DRef {
             [0, 0, 0, (255.0 * (1.0 - r).powi(2)) as u8]
         })
         .collect();
+    square_texture(context, SIZE, &data, None, Wrapping::ClampToEdge)
+}
+
+/// A `size` × `size` texture of RGBA texels `data`, filtered linearly (and
+/// mipmapped when asked), wrapped at its edges by `wrapping`.
+fn square_texture(
+    context: &Context,
+    size: usize,
+    data: &[[u8; 4]],
+    mipmap: Option<Mipmap>,
+    wrapping: Wrapping,
+) -> Texture2DRef {
+    let size = size as u32;
     let texture = Texture2D::new_empty::<[u8; 4]>(
         context,
-        SIZE as u32,
-        SIZE as u32,
+        size,
+        size,
         Interpolation::Linear,
         Interpolation::Linear,
-        None,
-        Wrapping::ClampToEdge,
-        Wrapping::ClampToEdge,
+        mipmap,
+        wrapping,
+        wrapping,
     );
-    texture.fill(&data);
+    texture.fill(data);
     Texture2DRef::from_texture(texture)
 }
 
@@ -246,18 +271,7 @@ fn grid_cell(context: &Context) -> Texture2DRef {
     let line: [u8; 4] = Srgba::from(Srgba::new(r, g, b, a).to_linear_srgb()).into();
     let data: Vec<[u8; 4]> =
         (0..SIZE * SIZE).map(|i| if i % SIZE < 2 || i / SIZE < 2 { line } else { [0, 0, 0, 0] }).collect();
-    let texture = Texture2D::new_empty::<[u8; 4]>(
-        context,
-        SIZE as u32,
-        SIZE as u32,
-        Interpolation::Linear,
-        Interpolation::Linear,
-        Some(Mipmap::default()),
-        Wrapping::Repeat,
-        Wrapping::Repeat,
-    );
-    texture.fill(&data);
-    Texture2DRef::from_texture(texture)
+    square_texture(context, SIZE, &data, Some(Mipmap::default()), Wrapping::Repeat)
 }
 
 impl Scene {
@@ -279,14 +293,7 @@ impl Scene {
             flat(Srgba::WHITE, Some(grid_cell(&context)), true),
         );
         // A unit square on the floor (y = 0, x and z from -1 to 1).
-        let corners =
-            [vec3(-1.0, 0.0, -1.0), vec3(1.0, 0.0, -1.0), vec3(1.0, 0.0, 1.0), vec3(-1.0, 0.0, 1.0)];
-        let disc = CpuMesh {
-            positions: Positions::F32(corners.to_vec()),
-            indices: Indices::U8(vec![0, 2, 1, 0, 3, 2]),
-            uvs: Some(corners.iter().map(|c| vec2((c.x + 1.0) / 2.0, (c.z + 1.0) / 2.0)).collect()),
-            ..Default::default()
-        };
+        let disc = floor_quad((-1.0, 1.0), (-1.0, 1.0), 0.0, |c| vec2((c.x + 1.0) / 2.0, (c.z + 1.0) / 2.0));
         let shadows = Gm::new(
             InstancedMesh::new(&context, &Instances::default(), &disc),
             flat(srgba(theme::FLOOR_SHADOW), Some(soft_disc(&context)), true),
@@ -410,14 +417,7 @@ impl Scene {
         };
         let (x0, x1) = (snap(min.x - 1.0, false), snap(max.x + 1.0, true));
         let (z0, z1) = (snap(min.z - 1.0, false), snap(max.z + 1.0, true));
-        let corners =
-            [vec3(x0, floor_y, z0), vec3(x1, floor_y, z0), vec3(x1, floor_y, z1), vec3(x0, floor_y, z1)];
-        let quad = CpuMesh {
-            positions: Positions::F32(corners.to_vec()),
-            indices: Indices::U8(vec![0, 2, 1, 0, 3, 2]),
-            uvs: Some(corners.iter().map(|c| vec2(c.x / GRID_CELL_M, c.z / GRID_CELL_M)).collect()),
-            ..Default::default()
-        };
+        let quad = floor_quad((x0, x1), (z0, z1), floor_y, |c| vec2(c.x / GRID_CELL_M, c.z / GRID_CELL_M));
         self.grid.geometry = Mesh::new(&self.context, &quad);
         self.floor_y = floor_y;
         let mut ribbons =
