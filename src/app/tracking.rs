@@ -394,6 +394,11 @@ impl TrackingJob {
         self.track.as_ref()
     }
 
+    /// How the take's video is timed against its recording.
+    pub fn timing(&self) -> VideoTiming {
+        self.take.setup.timing
+    }
+
     /// For evaluations (`embusen eval-track --camera-oracle`): where the
     /// fused energy alone puts the body in video frame `i`, searched
     /// densely within `reach_cm` of the true `around_cm`

@@ -182,8 +182,22 @@ struct Measured {
 pub struct SmoothedFrame {
     /// Where the hips are on the floor (x, z, cm).
     pub floor_cm: DVec2,
-    /// How far they may be from there (cm, one σ).
+    /// How far they may be from there (cm, one σ): the root of the
+    /// covariance's trace.
     pub uncertainty_cm: f64,
+    /// How they may be off, per floor axis (x, z; cm²): across the camera's
+    /// line of sight a silhouette places the body well, along it the suit's
+    /// steps and the soles do; another camera, at an angle, sees that depth
+    /// across its own line of sight (`track::views`).
+    pub covariance_cm2: DMat2,
+}
+
+impl SmoothedFrame {
+    /// At `floor_cm`, as uncertain in every direction as `uncertainty_cm` says.
+    pub fn round(floor_cm: DVec2, uncertainty_cm: f64) -> SmoothedFrame {
+        let covariance_cm2 = DMat2::from_diagonal(DVec2::splat(uncertainty_cm * uncertainty_cm / 2.0));
+        SmoothedFrame { floor_cm, uncertainty_cm, covariance_cm2 }
+    }
 }
 
 /// The fused tracker in the middle of a video.
@@ -395,7 +409,7 @@ impl FusedTracker {
             warnings.push(
                 "the camera never saw the body well enough to place it: the track is the suit's own steps (the contact method) from the floor's origin".to_string(),
             );
-            let start = SmoothedFrame { floor_cm: DVec2::ZERO, uncertainty_cm: self.params.start_search_cm };
+            let start = SmoothedFrame::round(DVec2::ZERO, self.params.start_search_cm);
             return (Some(self.suit_steps_from(start, dt_s)), f64::NAN, warnings);
         };
         let params = &self.params;
@@ -409,13 +423,19 @@ impl FusedTracker {
         let (mut smoothed, covariances): (Vec<DVec2>, Vec<DMat2>) =
             searched.as_ref().unwrap_or(filter).smooth().into_iter().unzip();
         let mut variances: Vec<f64> = covariances.iter().map(|c| c.x_axis.x + c.y_axis.y).collect();
+        let mut covariances = covariances;
         let first = self.first_filtered.unwrap_or(0);
         let soles: Vec<(usize, SoleView)> =
             self.soles.drain(..).filter_map(|(i, v)| i.checked_sub(first).map(|k| (k, v))).collect();
         let corrections = correct_depth(&mut smoothed, &soles, camera, dt_s);
         warnings.extend(self.soles_warning(corrections.frames_sighted));
-        for (variance, (_, sigma_cm)) in variances.iter_mut().zip(corrections.per_frame) {
+        // The soles' depth is uncertain along the line of sight only.
+        for (k, (variance, (_, sigma_cm))) in variances.iter_mut().zip(corrections.per_frame).enumerate() {
             *variance += sigma_cm * sigma_cm;
+            if let (Some(covariance), Some(&floor_cm)) = (covariances.get_mut(k), smoothed.get(k)) {
+                let along = camera.line_of_sight_on_floor(floor_cm);
+                *covariance += sigma_cm * sigma_cm * DMat2::from_cols(along * along.x, along * along.y);
+            }
         }
         let (planted, steps_cm) = (self.planted.get(first..), self.steps_cm.get(first..));
         if let (Some(planted), Some(steps_cm)) = (planted, steps_cm) {
@@ -424,7 +444,12 @@ impl FusedTracker {
         let mut path: Vec<SmoothedFrame> = smoothed
             .into_iter()
             .zip(variances)
-            .map(|(floor_cm, v)| SmoothedFrame { floor_cm, uncertainty_cm: v.sqrt() })
+            .zip(covariances)
+            .map(|((floor_cm, v), covariance_cm2)| SmoothedFrame {
+                floor_cm,
+                uncertainty_cm: v.sqrt(),
+                covariance_cm2,
+            })
             .collect();
         let before_first = self.back_from_first_fit(path.first().copied(), first, dt_s);
         path.splice(0..0, before_first);
@@ -489,6 +514,7 @@ impl FusedTracker {
         SmoothedFrame {
             floor_cm: at.floor_cm + step_cm,
             uncertainty_cm: (at.uncertainty_cm * at.uncertainty_cm + sigma * sigma).sqrt(),
+            covariance_cm2: at.covariance_cm2 + DMat2::from_diagonal(DVec2::splat(sigma * sigma / 2.0)),
         }
     }
 }

@@ -8,7 +8,8 @@
 //! from them; [`path_scorer`] scores the path's energies apart). Both score a
 //! body's silhouette ([`silhouette`], rendered on the CPU from
 //! `body::shape`) against the frame ([`energy`]); [`take`] makes a take
-//! and writes its track, [`offset`] finds the video's time offset. May
+//! and writes its track, [`offset`] finds the video's time offset, and
+//! [`views`] weighs several cameras' tracks of one take into one. May
 //! import `signal`, `error`, `image`, `body`, `camera`, `io` and
 //! `translate`.
 
@@ -28,3 +29,4 @@ pub mod soles;
 pub mod suit_motion;
 pub mod take;
 pub mod tracker;
+pub mod views;

@@ -9,7 +9,7 @@
 //! in the CLI (frames from ffmpeg) and in the browser (the worker's
 //! WebCodecs decoder hands the frames' luma planes, `app::tracking`).
 
-use glam::{DVec2, DVec3};
+use glam::{DMat2, DVec2, DVec3};
 
 use crate::error::Error;
 use crate::image::GreyImage;
@@ -90,6 +90,9 @@ pub struct TrackedFrame {
     /// tracker weighs its evidence; NaN where it is not stated (the
     /// paper's tracker, a frame without a pose).
     pub uncertainty_cm: f64,
+    /// The same per floor axis (x, z; cm²): long along the camera's line of
+    /// sight, short across it; NaN where no uncertainty is stated.
+    pub covariance_cm2: DMat2,
     /// The share of the image that differs from the background (0 to 1;
     /// NaN where the frame was not read, having no pose).
     pub foreground_share: f64,
@@ -262,10 +265,8 @@ impl Tracker {
                 let params = paper.params();
                 let (smoothed, candidates) = paper.finish();
                 // The paper states no uncertainty.
-                let smoothed = smoothed
-                    .into_iter()
-                    .map(|floor_cm| SmoothedFrame { floor_cm, uncertainty_cm: f64::NAN })
-                    .collect();
+                let smoothed =
+                    smoothed.into_iter().map(|floor_cm| SmoothedFrame::round(floor_cm, f64::NAN)).collect();
                 (smoothed, Vec::new(), TrackDetails::Paper { params, candidates })
             }
             TrackerState::Fused(fused) => {
@@ -273,10 +274,7 @@ impl Tracker {
                 let (smoothed, mean_innovation, warnings) =
                     fused.finish(&self.setup.camera, 1.0 / self.setup.timing.fps);
                 let smoothed: Vec<SmoothedFrame> = smoothed.unwrap_or_else(|| {
-                    frames
-                        .iter()
-                        .map(|f| SmoothedFrame { floor_cm: f.floor_cm, uncertainty_cm: f64::NAN })
-                        .collect()
+                    frames.iter().map(|f| SmoothedFrame::round(f.floor_cm, f64::NAN)).collect()
                 });
                 (smoothed, warnings, TrackDetails::Fused { params, mean_innovation })
             }
@@ -287,6 +285,7 @@ impl Tracker {
             frame.floor_cm = smoothed.floor_cm;
             if frame.height_cm.is_finite() {
                 frame.uncertainty_cm = smoothed.uncertainty_cm;
+                frame.covariance_cm2 = smoothed.covariance_cm2;
             }
         }
         // A frame without a pose has no height; one the camera did not see
@@ -319,6 +318,7 @@ fn tracked_frame(time_s: f64, height_cm: f64, estimate: FrameEstimate) -> Tracke
         confidence,
         measured_cm,
         uncertainty_cm: f64::NAN,
+        covariance_cm2: DMat2::NAN,
         foreground_share: f64::NAN,
         difference_noise: f64::NAN,
     }

@@ -18,9 +18,10 @@ use embusen::io::video::{Ffmpeg, VideoFrames, sample_frames};
 use embusen::signal::stats::median;
 use embusen::track::fused::FusedParams;
 use embusen::track::riecicky::RiecickyParams;
-use embusen::track::suit_motion::SuitMotion;
+use embusen::track::suit_motion::{SuitMotion, VideoTiming};
 use embusen::track::take::TakeExport;
-use embusen::track::tracker::TrackMethod;
+use embusen::track::tracker::{Track, TrackMethod};
+use embusen::track::views::{ViewTrack, fuse_views};
 use glam::DVec2;
 
 #[derive(clap::Args)]
@@ -416,6 +417,8 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
         let room =
             background(background_still.is_file().then_some(background_still.as_path()), &video, None)?;
         let wanted = |name| args.methods.is_empty() || args.methods.contains(&name);
+        // The first view's fused track, to weigh a second view's against.
+        let mut first_view: Option<(Track, VideoTiming)> = None;
         let methods = [
             (TrackMethodName::Paper, TrackMethod::Paper(RiecickyParams::default())),
             (TrackMethodName::Fused, TrackMethod::Fused(FusedParams::default())),
@@ -425,17 +428,42 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
             let (mut job, mut frames) = open_job(inputs, &video, method)?;
             let (_, ms_per_frame, _) = run_job(&mut job, &mut frames, false)?;
             let Some(track) = job.track() else { continue };
-            let floor: Vec<DVec2> = track.frames.iter().map(|f| f.floor_cm).collect();
-            let uncertainty: Vec<f64> = track.frames.iter().map(|f| f.uncertainty_cm).collect();
-            let row = SceneRow {
-                scene: name.clone(),
-                method: track.method().name(),
-                errors: track_errors(&floor, &truth_floor),
-                ms_per_frame,
-                within_uncertainty: share_within_uncertainty(&floor, &uncertainty, &truth_floor),
-            };
+            let row = scene_row(&name, track.method().name(), track, &truth_floor, ms_per_frame);
             print_row(&row);
             rows.push(row);
+            if matches!(method, TrackMethod::Fused(_)) {
+                first_view = Some((track.clone(), job.timing()));
+            }
+        }
+        // A second camera (`second_view/` beside the scenes): tracked
+        // alone, then weighed with the first.
+        let second = dir.join("second_view");
+        if let Some((first, first_timing)) =
+            first_view.as_ref().filter(|_| second.join(format!("{name}.camera.json")).is_file())
+        {
+            let (view_track, view_timing, ms_per_frame) =
+                track_second_view(&second, &name, &recording, args.board_camera)?;
+            let view_path = second.join(format!("{name}.truth.csv"));
+            let view_truth = parse_hips_csv(&read_text(&view_path)?, &view_path.display().to_string())?;
+            let view_truth: Vec<DVec2> =
+                view_truth.iter().map(|s| DVec2::new(s.hips_cm.x, s.hips_cm.z)).collect();
+            let row = scene_row(&name, "view2", &view_track, &view_truth, ms_per_frame);
+            print_row(&row);
+            rows.push(row);
+            let views = [
+                ViewTrack { track: first, timing: first_timing },
+                ViewTrack { track: &view_track, timing: &view_timing },
+            ];
+            if let Some(fused) = fuse_views(&views) {
+                let first_ms = rows
+                    .iter()
+                    .rev()
+                    .find(|r| r.scene == name && r.method == "fused")
+                    .map_or(0.0, |r| r.ms_per_frame);
+                let row = scene_row(&name, "2views", &fused, &truth_floor, first_ms + ms_per_frame);
+                print_row(&row);
+                rows.push(row);
+            }
         }
         if args.camera_oracle {
             let method = TrackMethod::Fused(FusedParams::default());
@@ -470,7 +498,7 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
         print_row(row);
     }
     println!("medians over the scenes:");
-    for method in ["suit", "paper", "fused", "oracle"] {
+    for method in ["suit", "paper", "fused", "view2", "2views", "oracle"] {
         let of: Vec<&SceneRow> = rows.iter().filter(|r| r.method == method).collect();
         if of.is_empty() {
             continue;
@@ -495,6 +523,51 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
         });
     }
     Ok(())
+}
+
+/// A track's row against `truth_floor` (the truth per video frame).
+fn scene_row(
+    scene: &str,
+    method: &'static str,
+    track: &Track,
+    truth_floor: &[DVec2],
+    ms_per_frame: f64,
+) -> SceneRow {
+    let floor: Vec<DVec2> = track.frames.iter().map(|f| f.floor_cm).collect();
+    let uncertainty: Vec<f64> = track.frames.iter().map(|f| f.uncertainty_cm).collect();
+    SceneRow {
+        scene: scene.to_string(),
+        method,
+        errors: track_errors(&floor, truth_floor),
+        ms_per_frame,
+        within_uncertainty: share_within_uncertainty(&floor, &uncertainty, truth_floor),
+    }
+}
+
+/// Scene `name`'s second view in `dir` (its video, camera, background,
+/// and board when `board_camera`) tracked by the fused tracker alone: the
+/// track, its timing, the ms a frame.
+fn track_second_view(
+    dir: &Path,
+    name: &str,
+    recording: &Recording,
+    board_camera: bool,
+) -> Result<(Track, VideoTiming, f64), Error> {
+    let path = |suffix: &str| dir.join(format!("{name}{suffix}"));
+    let true_camera = read_camera(&path(".camera.json"))?;
+    let camera =
+        if board_camera { camera_from_board(&path(".board.png"), Some(&true_camera))? } else { true_camera };
+    let video = scene_video(dir, name)?;
+    let still = path(".background.png");
+    let room = background(still.is_file().then_some(still.as_path()), &video, None)?;
+    let inputs = TakeInputs { recording: recording.clone(), camera, background: room };
+    let (mut job, mut frames) = open_job(inputs, &video, TrackMethod::Fused(FusedParams::default()))?;
+    let (_, ms_per_frame, _) = run_job(&mut job, &mut frames, false)?;
+    let track = job
+        .track()
+        .cloned()
+        .ok_or_else(|| Error::whole(&video.display().to_string(), "the second view was not tracked"))?;
+    Ok((track, job.timing(), ms_per_frame))
 }
 
 fn print_row(row: &SceneRow) {
