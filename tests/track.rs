@@ -211,6 +211,78 @@ fn track_cli_with(
     (output.status.success(), String::from_utf8_lossy(&output.stderr).into_owned())
 }
 
+/// `embusen track` with two videos of walk (its second camera's too): one
+/// track on the first video's frames, within 3 cm of the truth where each
+/// view alone is 4; and what does not fit, said: a flag given for another
+/// number of videos, two cameras calibrated into two worlds (the second
+/// one's floor moved 60 cm).
+#[test]
+fn two_videos_weigh_into_one_track_and_cameras_of_two_worlds_are_refused() {
+    let Some(data) = common::data_dir() else { return };
+    let dir = data.join("optical");
+    let scratch = Scratch::new("two-views");
+    let scene = |view: &Path, suffix: &str| view.join(format!("walk{suffix}"));
+    let second = dir.join("second_view");
+    let out = scratch.join("walk.two.bvh");
+    let run = |second_camera: &Path, backgrounds: usize| {
+        let mut args: Vec<std::ffi::OsString> =
+            vec!["track".into(), scene(&dir, ".mp4").into(), scene(&second, ".mp4").into()];
+        for (flag, value) in [
+            ("--bvh", scene(&dir, ".suit.bvh")),
+            ("--camera", scene(&dir, ".camera.json")),
+            ("--camera", second_camera.to_path_buf()),
+            ("--background", scene(&dir, ".background.png")),
+            ("--background", scene(&second, ".background.png")),
+            ("-o", out.clone()),
+        ]
+        .into_iter()
+        .filter(|(flag, _)| *flag != "--background" || backgrounds == 2)
+        {
+            args.extend([flag.into(), value.into()]);
+        }
+        if backgrounds == 1 {
+            args.extend(["--background".into(), scene(&dir, ".background.png").into()]);
+        }
+        let args: Vec<&std::ffi::OsStr> = args.iter().map(|a| a.as_os_str()).collect();
+        let output = embusen(&args);
+        (output.status.success(), String::from_utf8_lossy(&output.stderr).into_owned())
+    };
+    let (ok, said) = run(&scene(&second, ".camera.json"), 2);
+    assert!(ok, "{said}");
+    let csv = std::fs::read_to_string(scratch.join("walk.two.track.csv")).unwrap();
+    let track = embusen::io::hips_csv::parse_hips_csv(&csv, "walk.two.track.csv").unwrap();
+    let truth_csv = std::fs::read_to_string(scene(&dir, ".truth.csv")).unwrap();
+    let truth = embusen::io::hips_csv::parse_hips_csv(&truth_csv, "walk.truth.csv").unwrap();
+    assert_eq!(track.len(), truth.len());
+    let floor = |s: &embusen::io::hips_csv::HipsSample| DVec2::new(s.hips_cm.x, s.hips_cm.z);
+    let mean_cm = track.iter().zip(&truth).map(|(a, b)| (floor(a) - floor(b)).length()).sum::<f64>()
+        / truth.len() as f64;
+    eprintln!("walk, two views by the CLI: {mean_cm:.2} cm");
+    assert!(mean_cm <= 3.0, "{mean_cm:.2} cm");
+    let (ok, said) = run(&scene(&second, ".camera.json"), 1);
+    assert!(!ok && said.contains("1 --background for 2 videos"), "{said}");
+    // The second camera's world 60 cm off the first's.
+    let mut moved: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(scene(&second, ".camera.json")).unwrap()).unwrap();
+    let rotation: Vec<Vec<f64>> = (0..3)
+        .map(|i| (0..3).map(|j| moved["camera_from_world"][i][j].as_f64().unwrap()).collect())
+        .collect();
+    for i in 0..3 {
+        let shift = 60.0 * rotation[i][0];
+        moved["tvec_cm"][i] = (moved["tvec_cm"][i].as_f64().unwrap() + shift).into();
+        moved["camera_from_world"][i][3] =
+            (moved["camera_from_world"][i][3].as_f64().unwrap() + shift).into();
+    }
+    moved["camera_center_world_cm"][0] = (moved["camera_center_world_cm"][0].as_f64().unwrap() - 60.0).into();
+    let moved_path = scratch.join("moved.camera.json");
+    std::fs::write(&moved_path, moved.to_string()).unwrap();
+    let (ok, said) = run(&moved_path, 2);
+    assert!(
+        !ok && said.contains("view 2 puts the body") && said.contains("do not agree about the floor"),
+        "{said}"
+    );
+}
+
 /// `embusen track` on a shared scene: the corrected BVH and one CSV row per
 /// video frame; and bad input as a message, never a panic.
 #[test]

@@ -20,6 +20,7 @@ use crate::image::background::median_background;
 use crate::io::hips_csv::parse_hips_csv;
 use crate::io::image_file::png_to_grey;
 use crate::io::recording::Recording;
+use crate::signal::stats::median;
 use crate::track::offset::{OFFSET_REACH_S, OffsetEstimate, estimate_offset_s, is_offset_sample};
 use crate::track::path::PathRequest;
 use crate::track::path_scorer::PathScorer;
@@ -27,6 +28,7 @@ use crate::track::silhouette::SilhouetteRenderer;
 use crate::track::suit_motion::VideoTiming;
 use crate::track::take::{Take, TakeExport};
 use crate::track::tracker::{Track, TrackDetails, TrackMethod, Tracker};
+use crate::track::views::{ViewTrack, fuse_views};
 
 /// The video as the page's decoder describes it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -394,6 +396,11 @@ impl TrackingJob {
         self.track.as_ref()
     }
 
+    /// The finished track, or an error naming the video when it is not.
+    fn finished_track(&self) -> Result<&Track, Error> {
+        self.track.as_ref().ok_or_else(|| Error::whole(&self.video_name, "this view is not tracked yet"))
+    }
+
     /// How the take's video is timed against its recording.
     pub fn timing(&self) -> VideoTiming {
         self.take.setup.timing
@@ -428,6 +435,63 @@ impl TrackingJob {
         let setup = &self.take.setup;
         outlines_px(&setup.camera, &floor_cm, |i| setup.posed_body(i))
     }
+}
+
+/// Where two views may disagree about where the body stands, the median
+/// over the take (cm): each camera places it within a few centimetres
+/// across its line of sight and 5–15 along it, so views of one world agree
+/// far better than this; cameras calibrated into two worlds (two boards,
+/// a board moved between the stills) disagree by the board's move.
+pub const VIEWS_DISAGREE_CM: f64 = 30.0;
+
+/// Several views of one take, each tracked to the end by its own job
+/// (`jobs[0]` the first view, whose video frames the result keeps), weighed
+/// into one track ([`fuse_views`]): what `embusen track` with several
+/// videos writes, and that track. Errors naming the view: a job not
+/// finished; a view that puts the body more than [`VIEWS_DISAGREE_CM`]
+/// (the median over the take) from the first view's, as cameras
+/// calibrated into different worlds do.
+pub fn weigh_views(jobs: &[&TrackingJob]) -> Result<(TakeExport, Track), Error> {
+    let Some(first) = jobs.first() else { return Err(Error::whole("embusen track", "no view to track")) };
+    let first_track = first.finished_track()?;
+    let mut views = Vec::with_capacity(jobs.len());
+    for (k, job) in jobs.iter().enumerate() {
+        let view = ViewTrack { track: job.finished_track()?, timing: &job.take.setup.timing };
+        if k > 0 {
+            let apart_cm = median_apart_cm(first_track, &first.take.setup.timing, &view);
+            if apart_cm > VIEWS_DISAGREE_CM {
+                return Err(Error::whole(
+                    &job.video_name,
+                    format!(
+                        "view {} puts the body {apart_cm:.0} cm from where view 1 ({}) does, the median over the take: its camera and view 1's do not agree about the floor (calibrate both from the same board, lying where it lay)",
+                        k + 1,
+                        first.video_name
+                    ),
+                ));
+            }
+        }
+        views.push(view);
+    }
+    let fused = fuse_views(&views).ok_or_else(|| Error::whole(&first.video_name, "no view to weigh"))?;
+    Ok((first.take.export(&fused, &first.take.setup.timing), fused))
+}
+
+/// The median distance (cm) between where `first` (timed by `timing`) and
+/// `view` put the hips at the first's video frames, where both do.
+fn median_apart_cm(first: &Track, timing: &VideoTiming, view: &ViewTrack) -> f64 {
+    let apart: Vec<f64> = first
+        .frames
+        .iter()
+        .enumerate()
+        .filter_map(|(i, frame)| {
+            let recording_s = timing.bvh_time_s(i);
+            let position = ((recording_s - view.timing.offset_s) * view.timing.fps).round();
+            let other = view.track.frames.get(usize::try_from(position as i64).ok()?)?;
+            let d = (other.floor_cm - frame.floor_cm).length();
+            d.is_finite().then_some(d)
+        })
+        .collect();
+    if apart.is_empty() { 0.0 } else { median(&apart) }
 }
 
 /// Per video frame `i`, the outer contour of `posed(i)` (a body model

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use embusen::Error;
-use embusen::app::tracking::{Background, TakeInputs, TrackingJob, VideoDescription};
+use embusen::app::tracking::{Background, TakeInputs, TrackingJob, VideoDescription, weigh_views};
 use embusen::camera::Camera;
 use embusen::eval::track::{TrackErrors, share_within_uncertainty, track_errors};
 use embusen::image::GreyImage;
@@ -26,31 +26,36 @@ use glam::DVec2;
 
 #[derive(clap::Args)]
 pub struct TrackArgs {
-    /// The video (anything ffmpeg reads), or a folder of PNG frames (with --fps).
-    video: PathBuf,
+    /// The video (anything ffmpeg reads), or a folder of PNG frames (with
+    /// --fps); several: one per camera filming the take, each with its own
+    /// --camera (or --board) and --background, in the same order, weighed
+    /// into one track on the first video's frames.
+    #[arg(required = true, num_args = 1..)]
+    video: Vec<PathBuf>,
     /// The suit's recording of the same take.
     #[arg(long)]
     bvh: PathBuf,
-    /// The calibrated camera (camera.json).
+    /// The calibrated camera (camera.json), one per video.
     #[arg(long, required_unless_present = "board", conflicts_with = "board")]
-    camera: Option<PathBuf>,
+    camera: Vec<PathBuf>,
     /// A still of the ChArUco board on the floor (its layout in BOARD.json
-    /// beside it): the camera is calibrated from it.
+    /// beside it), one per video: each camera is calibrated from its own.
     #[arg(long, value_name = "BOARD.png")]
-    board: Option<PathBuf>,
-    /// With --board: the lens (camera.json) to pose; without, the focal
-    /// length is estimated from the still.
+    board: Vec<PathBuf>,
+    /// With --board: the lens (camera.json) to pose, one per board; without,
+    /// the focal length is estimated from the still.
     #[arg(long, requires = "board", value_name = "CAMERA.json")]
-    intrinsics: Option<PathBuf>,
-    /// A still of the empty room; without it, the per-pixel median of frames
-    /// spread over the video.
+    intrinsics: Vec<PathBuf>,
+    /// A still of the empty room, one per video; without, the per-pixel
+    /// median of frames spread over each video.
     #[arg(long, value_name = "BG.png")]
-    background: Option<PathBuf>,
+    background: Vec<PathBuf>,
     #[arg(long, value_enum, default_value = "fused")]
     method: TrackMethod,
-    /// How far the BVH's clock runs ahead of the video's (s).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    offset_s: f64,
+    /// How far the BVH's clock runs ahead of the video's (s): once for every
+    /// video, or once per video.
+    #[arg(long, allow_hyphen_values = true)]
+    offset_s: Vec<f64>,
     /// Refine --offset-s from the video itself, within a quarter of a
     /// second either way (a stride takes at least half a second, so a
     /// walk or run a whole stride out of step fits as well: give the offset
@@ -266,26 +271,123 @@ pub fn run_track(args: &TrackArgs) -> ExitCode {
     }
 }
 
+/// The `i`-th of `list`, when given.
+fn nth(list: &[PathBuf], i: usize) -> Option<&Path> {
+    list.get(i).map(PathBuf::as_path)
+}
+
+/// One camera's view of the take, as the command line gives it.
+struct ViewArgs<'a> {
+    video: &'a Path,
+    camera: Option<&'a Path>,
+    board: Option<&'a Path>,
+    intrinsics: Option<&'a Path>,
+    background: Option<&'a Path>,
+    offset_s: f64,
+}
+
+/// The views the command line gives: the i-th --camera (or --board,
+/// --intrinsics), --background and --offset-s belong to the i-th video.
+/// An error names the flag given another number of times.
+fn views_of(args: &TrackArgs) -> Result<Vec<ViewArgs<'_>>, Error> {
+    let videos = args.video.len();
+    let per_view = |flag: &str, given: usize, may_be_absent: bool| {
+        if given == videos || (may_be_absent && given == 0) {
+            return Ok(());
+        }
+        Err(Error::whole(
+            "embusen track",
+            format!("{given} --{flag} for {videos} videos: give one per video, the i-th for the i-th video"),
+        ))
+    };
+    if args.board.is_empty() {
+        per_view("camera", args.camera.len(), false)?;
+    } else {
+        per_view("board", args.board.len(), false)?;
+        per_view("intrinsics", args.intrinsics.len(), true)?;
+    }
+    per_view("background", args.background.len(), true)?;
+    if args.offset_s.len() > 1 {
+        per_view("offset-s", args.offset_s.len(), false)?;
+    }
+    Ok((0..videos)
+        .map(|i| ViewArgs {
+            video: &args.video[i],
+            camera: nth(&args.camera, i),
+            board: nth(&args.board, i),
+            intrinsics: nth(&args.intrinsics, i),
+            background: nth(&args.background, i),
+            offset_s: args.offset_s.get(i).or(args.offset_s.first()).copied().unwrap_or(0.0),
+        })
+        .collect())
+}
+
 fn track(args: &TrackArgs) -> Result<(), Error> {
     output_folder_exists(&args.output)?;
+    let views = views_of(args)?;
     let recording = read_recording(&args.bvh)?;
-    let camera = match (&args.camera, &args.board) {
+    let mut jobs = Vec::with_capacity(views.len());
+    for (k, view) in views.iter().enumerate() {
+        if views.len() > 1 {
+            println!("view {}: {}", k + 1, view.video.display());
+        }
+        jobs.push(track_view(view, &recording, args)?);
+    }
+    let Some((first_job, first_export, ms_per_frame)) = jobs.first() else {
+        return Err(Error::whole("embusen track", "no video to track"));
+    };
+    let (export, track) = if jobs.len() == 1 {
+        let track = first_job.track().ok_or_else(|| {
+            Error::whole(&args.video[0].display().to_string(), "the tracking did not finish")
+        })?;
+        (first_export.clone(), track.clone())
+    } else {
+        let finished: Vec<&TrackingJob> = jobs.iter().map(|(job, _, _)| job).collect();
+        weigh_views(&finished)?
+    };
+    let out_name = args.output.display().to_string();
+    std::fs::write(&args.output, &export.recording_text)
+        .map_err(|e| Error::whole(&out_name, format!("cannot write: {e}")))?;
+    let csv = csv_path(&args.output);
+    std::fs::write(&csv, &export.track_csv)
+        .map_err(|e| Error::whole(&csv.display().to_string(), format!("cannot write: {e}")))?;
+    let seen = track.frames.iter().filter(|f| f.confidence > 0.0).count();
+    let ms_per_frame: f64 = ms_per_frame + jobs[1..].iter().map(|(_, _, ms)| ms).sum::<f64>();
+    let views_said = if jobs.len() > 1 { format!(" by {} cameras", jobs.len()) } else { String::new() };
+    println!(
+        "{}: {} frames tracked{views_said} ({} seen by the camera), {ms_per_frame:.1} ms per frame; wrote {out_name} and {}",
+        track.method().name(),
+        track.frames.len(),
+        seen,
+        csv.display()
+    );
+    Ok(())
+}
+
+/// One view tracked to the end (its offset estimated again and tracked at
+/// it, when asked): its job, what it alone writes, its ms a frame.
+fn track_view(
+    view: &ViewArgs,
+    recording: &Recording,
+    args: &TrackArgs,
+) -> Result<(TrackingJob, TakeExport, f64), Error> {
+    let camera = match (view.camera, view.board) {
         (Some(path), _) => read_camera(path)?,
         (None, Some(still)) => {
-            let lens = args.intrinsics.as_deref().map(read_camera).transpose()?;
+            let lens = view.intrinsics.map(read_camera).transpose()?;
             camera_from_board(still, lens.as_ref())?
         }
         (None, None) => return Err(Error::whole("embusen track", "give --camera or --board")),
     };
-    let mut frames = Frames::open(&args.video, args.fps)?;
-    let video_name = args.video.display().to_string();
+    let mut frames = Frames::open(view.video, args.fps)?;
+    let video_name = view.video.display().to_string();
     if frames.frame_count() == 0 {
         return Err(Error::whole(&video_name, "has no frames"));
     }
     let video = frames.description()?;
-    let background = background(args.background.as_deref(), &args.video, args.fps)?;
-    let inputs = TakeInputs { recording, camera, background };
-    let mut job = TrackingJob::new(inputs, &video_name, video, args.method, args.offset_s)?;
+    let background = background(view.background, view.video, args.fps)?;
+    let inputs = TakeInputs { recording: recording.clone(), camera, background };
+    let mut job = TrackingJob::new(inputs, &video_name, video, args.method, view.offset_s)?;
     for w in job.warnings() {
         eprintln!("warning: {w}");
     }
@@ -299,7 +401,7 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
                 println!("estimated offset: the BVH runs {:.3} s ahead of the video", estimate.offset_s);
                 if let Some(again) = job.retrack_at(&estimate)? {
                     job = again;
-                    let mut frames = Frames::open(&args.video, args.fps)?;
+                    let mut frames = Frames::open(view.video, args.fps)?;
                     (export, ms_per_frame, warnings) = run_job(&mut job, &mut frames, true)?;
                 }
             }
@@ -311,24 +413,7 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
     for w in &warnings {
         eprintln!("warning: {w}");
     }
-    let Some(track) = job.track() else {
-        return Err(Error::whole(&video_name, "the tracking did not finish"));
-    };
-    let out_name = args.output.display().to_string();
-    std::fs::write(&args.output, &export.recording_text)
-        .map_err(|e| Error::whole(&out_name, format!("cannot write: {e}")))?;
-    let csv = csv_path(&args.output);
-    std::fs::write(&csv, &export.track_csv)
-        .map_err(|e| Error::whole(&csv.display().to_string(), format!("cannot write: {e}")))?;
-    let seen = track.frames.iter().filter(|f| f.confidence > 0.0).count();
-    println!(
-        "{}: {} frames tracked ({} seen by the camera), {ms_per_frame:.1} ms per frame; wrote {out_name} and {}",
-        track.method().name(),
-        track.frames.len(),
-        seen,
-        csv.display()
-    );
-    Ok(())
+    Ok((job, export, ms_per_frame))
 }
 
 /// One scene's figures for one way of placing the hips.
