@@ -224,9 +224,9 @@ fn two_videos_weigh_into_one_track_and_cameras_of_two_worlds_are_refused() {
     let scene = |view: &Path, suffix: &str| view.join(format!("walk{suffix}"));
     let second = dir.join("second_view");
     let out = scratch.join("walk.two.bvh");
-    let run = |second_camera: &Path, backgrounds: usize| {
+    let run_with = |second_video: &Path, second_camera: &Path, backgrounds: usize| {
         let mut args: Vec<std::ffi::OsString> =
-            vec!["track".into(), scene(&dir, ".mp4").into(), scene(&second, ".mp4").into()];
+            vec!["track".into(), scene(&dir, ".mp4").into(), second_video.into()];
         for (flag, value) in [
             ("--bvh", scene(&dir, ".suit.bvh")),
             ("--camera", scene(&dir, ".camera.json")),
@@ -246,6 +246,9 @@ fn two_videos_weigh_into_one_track_and_cameras_of_two_worlds_are_refused() {
         let args: Vec<&std::ffi::OsStr> = args.iter().map(|a| a.as_os_str()).collect();
         let output = embusen(&args);
         (output.status.success(), String::from_utf8_lossy(&output.stderr).into_owned())
+    };
+    let run = |second_camera: &Path, backgrounds: usize| {
+        run_with(&scene(&second, ".mp4"), second_camera, backgrounds)
     };
     let (ok, said) = run(&scene(&second, ".camera.json"), 2);
     assert!(ok, "{said}");
@@ -279,6 +282,21 @@ fn two_videos_weigh_into_one_track_and_cameras_of_two_worlds_are_refused() {
     let (ok, said) = run(&moved_path, 2);
     assert!(
         !ok && said.contains("view 2 puts the body") && said.contains("do not agree about the floor"),
+        "{said}"
+    );
+    // The second video 5 s long where the first is 6.5: tracked, and said.
+    let short = scratch.join("walk.short.mp4");
+    let cut = std::process::Command::new("ffmpeg")
+        .args(["-v", "error", "-i"])
+        .arg(scene(&second, ".mp4"))
+        .args(["-frames:v", "150", "-c:v", "libx264", "-pix_fmt", "yuv420p"])
+        .arg(&short)
+        .status()
+        .unwrap();
+    assert!(cut.success());
+    let (ok, said) = run_with(&short, &scene(&second, ".camera.json"), 2);
+    assert!(
+        ok && said.contains("lasts 5.00 s, view 1") && said.contains("the others carry the track"),
         "{said}"
     );
 }

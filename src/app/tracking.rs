@@ -447,15 +447,31 @@ pub const VIEWS_DISAGREE_CM: f64 = 30.0;
 /// Several views of one take, each tracked to the end by its own job
 /// (`jobs[0]` the first view, whose video frames the result keeps), weighed
 /// into one track ([`fuse_views`]): what `embusen track` with several
-/// videos writes, and that track. Errors naming the view: a job not
-/// finished; a view that puts the body more than [`VIEWS_DISAGREE_CM`]
-/// (the median over the take) from the first view's, as cameras
-/// calibrated into different worlds do.
-pub fn weigh_views(jobs: &[&TrackingJob]) -> Result<(TakeExport, Track), Error> {
+/// videos writes, that track, and what the user should know of the views
+/// together (a video that ends before or after the first: the frames past
+/// it rest on the others). Errors naming the view: a job not finished; a
+/// view that puts the body more than [`VIEWS_DISAGREE_CM`] (the median
+/// over the take) from the first view's, as cameras calibrated into
+/// different worlds do.
+pub fn weigh_views(jobs: &[&TrackingJob]) -> Result<(TakeExport, Track, Vec<String>), Error> {
     let Some(first) = jobs.first() else { return Err(Error::whole("embusen track", "no view to track")) };
     let first_track = first.finished_track()?;
     let mut views = Vec::with_capacity(jobs.len());
+    let mut warnings = Vec::new();
+    let lasts_s = |timing: &VideoTiming| timing.frame_count as f64 / timing.fps;
+    let first_timing = &first.take.setup.timing;
     for (k, job) in jobs.iter().enumerate() {
+        let timing = &job.take.setup.timing;
+        if k > 0 && (lasts_s(timing) - lasts_s(first_timing)).abs() > 1.5 / timing.fps.min(first_timing.fps) {
+            warnings.push(format!(
+                "view {} ({}) lasts {:.2} s, view 1 ({}) {:.2} s: where one has no frame the others carry the track",
+                k + 1,
+                job.video_name,
+                lasts_s(timing),
+                first.video_name,
+                lasts_s(first_timing)
+            ));
+        }
         let view = ViewTrack { track: job.finished_track()?, timing: &job.take.setup.timing };
         if k > 0 {
             let apart_cm = median_apart_cm(first_track, &first.take.setup.timing, &view);
@@ -473,7 +489,7 @@ pub fn weigh_views(jobs: &[&TrackingJob]) -> Result<(TakeExport, Track), Error> 
         views.push(view);
     }
     let fused = fuse_views(&views).ok_or_else(|| Error::whole(&first.video_name, "no view to weigh"))?;
-    Ok((first.take.export(&fused, &first.take.setup.timing), fused))
+    Ok((first.take.export(&fused, &first.take.setup.timing), fused, warnings))
 }
 
 /// The median distance (cm) between where `first` (timed by `timing`) and

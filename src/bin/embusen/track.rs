@@ -331,7 +331,12 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
         if views.len() > 1 {
             println!("view {}: {}", k + 1, view.video.display());
         }
-        jobs.push(track_view(view, &recording, args)?);
+        let said = if views.len() > 1 {
+            format!("view {} ({}): ", k + 1, view.video.display())
+        } else {
+            String::new()
+        };
+        jobs.push(track_view(view, &recording, args, &said)?);
     }
     let Some((first_job, first_export, ms_per_frame)) = jobs.first() else {
         return Err(Error::whole("embusen track", "no video to track"));
@@ -343,7 +348,11 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
         (first_export.clone(), track.clone())
     } else {
         let finished: Vec<&TrackingJob> = jobs.iter().map(|(job, _, _)| job).collect();
-        weigh_views(&finished)?
+        let (export, track, warnings) = weigh_views(&finished)?;
+        for w in &warnings {
+            eprintln!("warning: {w}");
+        }
+        (export, track)
     };
     let out_name = args.output.display().to_string();
     std::fs::write(&args.output, &export.recording_text)
@@ -365,11 +374,13 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
 }
 
 /// One view tracked to the end (its offset estimated again and tracked at
-/// it, when asked): its job, what it alone writes, its ms a frame.
+/// it, when asked): its job, what it alone writes, its ms a frame. What it
+/// says begins with `said` (which view, when there are several).
 fn track_view(
     view: &ViewArgs,
     recording: &Recording,
     args: &TrackArgs,
+    said: &str,
 ) -> Result<(TrackingJob, TakeExport, f64), Error> {
     let camera = match (view.camera, view.board) {
         (Some(path), _) => read_camera(path)?,
@@ -389,7 +400,7 @@ fn track_view(
     let inputs = TakeInputs { recording: recording.clone(), camera, background };
     let mut job = TrackingJob::new(inputs, &video_name, video, args.method, view.offset_s)?;
     for w in job.warnings() {
-        eprintln!("warning: {w}");
+        eprintln!("warning: {said}{w}");
     }
     if args.estimate_offset {
         job.keep_offset_samples();
@@ -398,7 +409,10 @@ fn track_view(
     if args.estimate_offset {
         match job.estimate_offset()? {
             Some(estimate) => {
-                println!("estimated offset: the BVH runs {:.3} s ahead of the video", estimate.offset_s);
+                println!(
+                    "{said}estimated offset: the BVH runs {:.3} s ahead of the video",
+                    estimate.offset_s
+                );
                 if let Some(again) = job.retrack_at(&estimate)? {
                     job = again;
                     let mut frames = Frames::open(view.video, args.fps)?;
@@ -406,12 +420,14 @@ fn track_view(
                 }
             }
             None => {
-                eprintln!("warning: the offset could not be estimated: no sampled frame had a pose to fit")
+                eprintln!(
+                    "warning: {said}the offset could not be estimated: no sampled frame had a pose to fit"
+                )
             }
         }
     }
     for w in &warnings {
-        eprintln!("warning: {w}");
+        eprintln!("warning: {said}{w}");
     }
     Ok((job, export, ms_per_frame))
 }
