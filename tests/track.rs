@@ -296,7 +296,7 @@ fn two_videos_weigh_into_one_track_and_cameras_of_two_worlds_are_refused() {
     assert!(cut.success());
     let (ok, said) = run_with(&short, &scene(&second, ".camera.json"), 2);
     assert!(
-        ok && said.contains("lasts 5.00 s, view 1") && said.contains("the others carry the track"),
+        ok && said.contains("films the recording's 0.00–5.00 s, view 1") && said.contains("0.00–6.50 s"),
         "{said}"
     );
 }

@@ -448,8 +448,9 @@ pub const VIEWS_DISAGREE_CM: f64 = 30.0;
 /// (`jobs[0]` the first view, whose video frames the result keeps), weighed
 /// into one track ([`fuse_views`]): what `embusen track` with several
 /// videos writes, that track, and what the user should know of the views
-/// together (a video that ends before or after the first: the frames past
-/// it rest on the others). Errors naming the view: a job not finished; a
+/// together (a view that films another span of the recording than the
+/// first: the track is on the first view's frames, each weighed with the
+/// views that film it). Errors naming the view: a job not finished; a
 /// view that puts the body more than [`VIEWS_DISAGREE_CM`] (the median
 /// over the take) from the first view's, as cameras calibrated into
 /// different worlds do.
@@ -458,18 +459,22 @@ pub fn weigh_views(jobs: &[&TrackingJob]) -> Result<(TakeExport, Track, Vec<Stri
     let first_track = first.finished_track()?;
     let mut views = Vec::with_capacity(jobs.len());
     let mut warnings = Vec::new();
-    let lasts_s = |timing: &VideoTiming| timing.frame_count as f64 / timing.fps;
+    // The span of the recording a view films (s).
+    let span_s =
+        |timing: &VideoTiming| (timing.offset_s, timing.offset_s + timing.frame_count as f64 / timing.fps);
     let first_timing = &first.take.setup.timing;
+    let (first_from, first_to) = span_s(first_timing);
     for (k, job) in jobs.iter().enumerate() {
         let timing = &job.take.setup.timing;
-        if k > 0 && (lasts_s(timing) - lasts_s(first_timing)).abs() > 1.5 / timing.fps.min(first_timing.fps) {
+        let (from, to) = span_s(timing);
+        // More than a frame and a half apart at either end: not rounding.
+        let frame_s = 1.0 / timing.fps.min(first_timing.fps);
+        if k > 0 && ((from - first_from).abs() > 1.5 * frame_s || (to - first_to).abs() > 1.5 * frame_s) {
             warnings.push(format!(
-                "view {} ({}) lasts {:.2} s, view 1 ({}) {:.2} s: where one has no frame the others carry the track",
+                "view {} ({}) films the recording's {from:.2}–{to:.2} s, view 1 ({}) {first_from:.2}–{first_to:.2} s: the track is on view 1's frames, each weighed with the views that film it",
                 k + 1,
                 job.video_name,
-                lasts_s(timing),
                 first.video_name,
-                lasts_s(first_timing)
             ));
         }
         let view = ViewTrack { track: job.finished_track()?, timing: &job.take.setup.timing };

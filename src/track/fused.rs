@@ -420,10 +420,9 @@ impl FusedTracker {
             dt_s,
             reacquire_after_frames(params, dt_s),
         );
-        let (mut smoothed, covariances): (Vec<DVec2>, Vec<DMat2>) =
+        let (mut smoothed, mut covariances): (Vec<DVec2>, Vec<DMat2>) =
             searched.as_ref().unwrap_or(filter).smooth().into_iter().unzip();
         let mut variances: Vec<f64> = covariances.iter().map(|c| c.x_axis.x + c.y_axis.y).collect();
-        let mut covariances = covariances;
         let first = self.first_filtered.unwrap_or(0);
         let soles: Vec<(usize, SoleView)> =
             self.soles.drain(..).filter_map(|(i, v)| i.checked_sub(first).map(|k| (k, v))).collect();
@@ -433,7 +432,7 @@ impl FusedTracker {
         for (k, (variance, (_, sigma_cm))) in variances.iter_mut().zip(corrections.per_frame).enumerate() {
             *variance += sigma_cm * sigma_cm;
             if let (Some(covariance), Some(&floor_cm)) = (covariances.get_mut(k), smoothed.get(k)) {
-                let along = camera.line_of_sight_on_floor(floor_cm);
+                let along = line_of_sight(camera, floor_cm);
                 *covariance += sigma_cm * sigma_cm * DMat2::from_cols(along * along.x, along * along.y);
             }
         }

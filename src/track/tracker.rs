@@ -90,8 +90,9 @@ pub struct TrackedFrame {
     /// tracker weighs its evidence; NaN where it is not stated (the
     /// paper's tracker, a frame without a pose).
     pub uncertainty_cm: f64,
-    /// The same per floor axis (x, z; cm²): long along the camera's line of
-    /// sight, short across it; NaN where no uncertainty is stated.
+    /// The same per floor axis (x, z; cm²): where the camera measured, long
+    /// along its line of sight and short across it; round where the suit's
+    /// steps alone place the body; NaN where no uncertainty is stated.
     pub covariance_cm2: DMat2,
     /// The share of the image that differs from the background (0 to 1;
     /// NaN where the frame was not read, having no pose).

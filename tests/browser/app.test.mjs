@@ -589,6 +589,9 @@ test("a camera take shows the body solid at the camera track, the camera, and th
     return {
       frustumCm: Array.from(new m.CameraView("walk.camera.json", await text(`${scene}.camera.json`)).frustum_cm(100)),
       cameraHipsCm: rows.slice(1).flatMap((row) => row.split(",").slice(1, 4).map(Number)),
+      // Per video frame (the truth's rows): its time, an uncertainty.
+      series: { recording_time_s: rows.slice(1).map((row) => Number(row.split(",")[0])), uncertainty_cm: rows.slice(1).map(() => 3),
+        error_cm: [], truth_name: "" },
     };
   }, TAKE);
   assert.equal(take.cameraHipsCm.length, 3 * 195, "the truth has a row per frame");
@@ -616,6 +619,7 @@ test("a camera take shows the body solid at the camera track, the camera, and th
   assert.ok(solid.near > 300, `the camera track and the frustum are drawn (${solid.near} magenta pixels)`);
   assert.ok(solid.body > 2 * sticks.body, `the solid body covers more than the stick figure (${solid.body} vs ${sticks.body} pixels)`);
   assert.match(await legend(), /suit's own translation.*inertial estimate.*camera track/);
+  assert.ok((await panelsOf(page))[5][2] > 50, "the plots lay out (f) for the take's series");
   await page.screenshot({ path: join(SCREENSHOTS, "camera_take.png") });
 
   // Paused and idle, the player draws nothing until something changes.
@@ -680,11 +684,13 @@ test("a camera take shows the body solid at the camera track, the camera, and th
   await drawFrame(60);
   assert.equal((await colourPixels(page, [236, 96, 226])).near, 0, "cleared: nothing magenta");
   assert.equal(await legend(), null);
+  assert.deepEqual((await panelsOf(page))[5], [0, 0, 0, 0], "cleared: no (f)");
   assert.equal(await show(take), true);
   await page.evaluate((url) => document.querySelector("#app").embusen.openUrl(url), `${TAKE}.suit.bvh`);
   await drawFrame(60);
   assert.equal((await colourPixels(page, [236, 96, 226])).near, 0, "another recording has no take");
   assert.equal(await legend(), null);
+  assert.deepEqual((await panelsOf(page))[5], [0, 0, 0, 0], "another recording: no (f)");
   assert.deepEqual(errors, []);
   await page.close();
 });

@@ -73,7 +73,8 @@ export async function trackTake(panel) {
     ui.progress.value = 1;
     const result = resultOf(opened, done, readMs, (performance.now() - started) / 1000);
     showTrack(panel, done);
-    const errorCm = done.errors ? Array.from(done.errors.per_frame_cm) : [];
+    // A truth shorter than the video: its missing frames have no error.
+    const errorCm = done.errors ? Array.from(done.series.recording_time_s, (_, i) => done.errors?.per_frame_cm[i] ?? NaN) : [];
     const series = { ...done.series, error_cm: errorCm, truth_name: errorCm.length > 0 ? inputs.truth?.name ?? "" : "" };
     await showInPlayer(panel, recording, camera, done.trackedHipsCm, series);
     panel.say(statusOf(panel, result, done, offsetS, background));

@@ -124,7 +124,16 @@ fn camera_dots(fig: &mut Figure, data: &PlotData, frame: usize, layout: &Layout,
         .into_iter()
         .flatten()
         .min_by(|&a, &b| (at(a) - frame as f64).abs().total_cmp(&(at(b) - frame as f64).abs()));
-    let Some(i) = nearest else { return };
+    // None where the video does not film the recording (within a frame).
+    let video_frame = camera.recording_time_s.windows(2).map(|w| w[1] - w[0]).next().unwrap_or(0.0) * fps;
+    let Some(i) = nearest.filter(|&i| {
+        let at_frame = at(i);
+        (at_frame - frame as f64).abs() <= video_frame.max(1.0)
+            && at_frame >= 0.0
+            && at_frame <= (time.frames - 1) as f64
+    }) else {
+        return;
+    };
     let scale = camera_scale(camera);
     for (values, color) in [(&camera.uncertainty_cm, theme::CAMERA), (&camera.error_cm, theme::TRACK_ERROR)] {
         if let Some(&v) = values.get(i).filter(|v| v.is_finite()) {

@@ -84,9 +84,14 @@ pub struct CameraSeries {
 }
 
 impl CameraSeries {
-    /// True when a take is shown: (d) draws its path and (f) is laid out.
+    /// True when a take is shown: (d) draws its path.
     pub fn is_shown(&self) -> bool {
         !self.hips_cm.is_empty()
+    }
+
+    /// True when the take has its per-video-frame series: (f) is laid out.
+    pub fn has_video_frames(&self) -> bool {
+        self.is_shown() && !self.recording_time_s.is_empty()
     }
 }
 

@@ -133,7 +133,7 @@ pub fn layout(width: f32, height: f32, text: TextMeasure) -> Layout {
 
 /// Lays out the panels `data` fills: (f) too when it holds a camera take.
 pub fn layout_for(data: &PlotData, width: f32, height: f32, text: TextMeasure) -> Layout {
-    layout_panels(width, height, data.camera.is_shown(), text)
+    layout_panels(width, height, data.camera.has_video_frames(), text)
 }
 
 /// Lays the panels out on a `width` × `height` pixel canvas, with text

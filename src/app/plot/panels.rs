@@ -214,8 +214,9 @@ fn draw_camera_panel(fig: &mut Figure, layout: &Layout, time: &TimeAxis, data: &
     draw_time_grid(fig, plot, time, (f, text));
     draw_y_ticks(fig, plot, f, nice_ticks(scale.lo, scale.hi, y_tick_budget(plot, f)), |v| scale.y(plot, v));
     draw_y_title(fig, outer, plot, (f, text), &["distance (cm)", "cm"]);
+    let fps = time.fps.unwrap_or(1.0);
     for (values, color) in [(&camera.uncertainty_cm, theme::CAMERA), (&camera.error_cm, theme::TRACK_ERROR)] {
-        let samples = values.iter().enumerate().map(|(i, &v)| (video_frame_at(camera, time, i), v));
+        let samples = camera.recording_time_s.iter().zip(values).map(|(t, &v)| (t * fps, v));
         fig.shapes.extend(placed_series_shapes(samples, values.len(), time, plot, scale, color));
     }
     let (legend, titles): (&[LegendItem], Vec<String>) = if camera.error_cm.is_empty() {

@@ -539,29 +539,22 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
         // A second camera (`second_view/` beside the scenes): tracked
         // alone, then weighed with the first.
         let second = dir.join("second_view");
-        if let Some((first, first_timing)) =
+        if let Some(first) =
             first_view.as_ref().filter(|_| second.join(format!("{name}.camera.json")).is_file())
         {
-            let (view_track, view_timing, ms_per_frame) =
-                track_second_view(&second, &name, &recording, args.board_camera)?;
-            let view_path = second.join(format!("{name}.truth.csv"));
-            let view_truth = parse_hips_csv(&read_text(&view_path)?, &view_path.display().to_string())?;
-            let view_truth: Vec<DVec2> =
-                view_truth.iter().map(|s| DVec2::new(s.hips_cm.x, s.hips_cm.z)).collect();
-            let row = scene_row(&name, "view2", &view_track, &view_truth, ms_per_frame);
-            print_row(&row);
-            rows.push(row);
-            let views = [
-                ViewTrack { track: first, timing: first_timing },
-                ViewTrack { track: &view_track, timing: &view_timing },
-            ];
-            if let Some(fused) = fuse_views(&views) {
-                let first_ms = rows
-                    .iter()
-                    .rev()
-                    .find(|r| r.scene == name && r.method == "fused")
-                    .map_or(0.0, |r| r.ms_per_frame);
-                let row = scene_row(&name, "2views", &fused, &truth_floor, first_ms + ms_per_frame);
+            let first_ms = rows
+                .iter()
+                .rev()
+                .find(|r| r.scene == name && r.method == "fused")
+                .map_or(0.0, |r| r.ms_per_frame);
+            for row in second_view_rows(
+                &second,
+                &name,
+                &recording,
+                args.board_camera,
+                first,
+                (&truth_floor, first_ms),
+            )? {
                 print_row(&row);
                 rows.push(row);
             }
@@ -643,6 +636,35 @@ fn scene_row(
         ms_per_frame,
         within_uncertainty: share_within_uncertainty(&floor, &uncertainty, truth_floor),
     }
+}
+
+/// The rows of scene `name`'s second view (in `dir`): alone against its
+/// own truth (`view2`), and weighed with the first view's fused track
+/// `first` (`2views`, against the first's truth and with its ms a frame
+/// added, `first_figures`). The CLI's check that the two cameras agree
+/// about the floor is not made here: the scenes' cameras are true, or
+/// calibrated from the one board.
+fn second_view_rows(
+    dir: &Path,
+    name: &str,
+    recording: &Recording,
+    board_camera: bool,
+    (first, first_timing): &(Track, VideoTiming),
+    (truth_floor, first_ms): (&[DVec2], f64),
+) -> Result<Vec<SceneRow>, Error> {
+    let (view_track, view_timing, ms_per_frame) = track_second_view(dir, name, recording, board_camera)?;
+    let view_path = dir.join(format!("{name}.truth.csv"));
+    let view_truth = parse_hips_csv(&read_text(&view_path)?, &view_path.display().to_string())?;
+    let view_truth: Vec<DVec2> = view_truth.iter().map(|s| DVec2::new(s.hips_cm.x, s.hips_cm.z)).collect();
+    let mut rows = vec![scene_row(name, "view2", &view_track, &view_truth, ms_per_frame)];
+    let views = [
+        ViewTrack { track: first, timing: first_timing },
+        ViewTrack { track: &view_track, timing: &view_timing },
+    ];
+    if let Some(fused) = fuse_views(&views) {
+        rows.push(scene_row(name, "2views", &fused, truth_floor, first_ms + ms_per_frame));
+    }
+    Ok(rows)
 }
 
 /// Scene `name`'s second view in `dir` (its video, camera, background,
