@@ -114,7 +114,7 @@ impl FinishedTake {
             .collect();
         let series = CameraSeries {
             hips_cm: recording.poses.trajectory(suit.hips),
-            recording_time_s: (0..samples.len()).map(|i| timing.bvh_time_s(i)).collect(),
+            recording_time_s: timing.bvh_times_s(samples.len()),
             uncertainty_cm: samples.iter().map(|s| s.uncertainty_cm.unwrap_or(f64::NAN)).collect(),
             ..CameraSeries::default()
         };
@@ -132,7 +132,7 @@ fn check_fit(
     recording_name: &str,
     track_name: &str,
 ) -> Result<(), Error> {
-    let times_s: Vec<f64> = (0..floor_cm.len()).map(|i| timing.bvh_time_s(i)).collect();
+    let times_s = timing.bvh_times_s(floor_cm.len());
     let own = suit.suit_floor_at(&times_s);
     // NaN where the recording has no pose: not compared.
     let worst = (0..floor_cm.len())

@@ -360,7 +360,7 @@ impl TrackingJob {
         let timing = &self.take.setup.timing;
         CameraSeries {
             hips_cm: self.take.tracked_hips_cm(track, timing),
-            recording_time_s: (0..track.frames.len()).map(|i| timing.bvh_time_s(i)).collect(),
+            recording_time_s: timing.bvh_times_s(track.frames.len()),
             uncertainty_cm: track.frames.iter().map(|f| f.uncertainty_cm).collect(),
             ..CameraSeries::default()
         }
@@ -479,7 +479,7 @@ pub fn weigh_views(jobs: &[&TrackingJob]) -> Result<(TakeExport, Track, Vec<Stri
         }
         let view = ViewTrack { track: job.finished_track()?, timing: &job.take.setup.timing };
         if k > 0 {
-            let apart_cm = median_apart_cm(first_track, &first.take.setup.timing, &view);
+            let apart_cm = median_apart_cm(first_track, first_timing, &view);
             if apart_cm > VIEWS_DISAGREE_CM {
                 return Err(Error::whole(
                     &job.video_name,
@@ -505,8 +505,7 @@ fn median_apart_cm(first: &Track, timing: &VideoTiming, view: &ViewTrack) -> f64
         .iter()
         .enumerate()
         .filter_map(|(i, frame)| {
-            let recording_s = timing.bvh_time_s(i);
-            let position = ((recording_s - view.timing.offset_s) * view.timing.fps).round();
+            let position = view.timing.video_position(timing.bvh_time_s(i)).round();
             let other = view.track.frames.get(usize::try_from(position as i64).ok()?)?;
             let d = (other.floor_cm - frame.floor_cm).length();
             d.is_finite().then_some(d)

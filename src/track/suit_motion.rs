@@ -140,6 +140,18 @@ impl VideoTiming {
         i as f64 / self.fps + self.offset_s
     }
 
+    /// The BVH times of video frames 0 to `count` − 1 (s).
+    pub fn bvh_times_s(&self, count: usize) -> Vec<f64> {
+        (0..count).map(|i| self.bvh_time_s(i)).collect()
+    }
+
+    /// The video frame, fractional, read at BVH time `bvh_time_s`: the
+    /// inverse of [`VideoTiming::bvh_time_s`], outside 0 to the last frame
+    /// where the video does not film that instant.
+    pub fn video_position(&self, bvh_time_s: f64) -> f64 {
+        (bvh_time_s - self.offset_s) * self.fps
+    }
+
     /// The video frames with no pose in `motion` as ranges (first, last),
     /// for a warning.
     pub fn frames_without_pose(&self, motion: &SuitMotion) -> Vec<(usize, usize)> {

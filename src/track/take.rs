@@ -106,7 +106,7 @@ fn bvh_shift_cm(recording: &Recording, suit: &SuitMotion, timing: &VideoTiming, 
     let inertial = &suit.inertial_floor_cm;
     (0..n)
         .map(|f| {
-            let video_position = (f as f64 / suit.bvh_fps - timing.offset_s) * timing.fps;
+            let video_position = timing.video_position(f as f64 / suit.bvh_fps);
             let floor = if frames.is_empty() {
                 inertial[f]
             } else if video_position <= 0.0 {

@@ -92,7 +92,7 @@ impl Sighting {
 /// video frames read nearest that instant; none outside its video.
 fn sighting_at(view: &ViewTrack, recording_s: f64) -> Option<Sighting> {
     let frames = &view.track.frames;
-    let position = (recording_s - view.timing.offset_s) * view.timing.fps;
+    let position = view.timing.video_position(recording_s);
     if !(position >= 0.0 && position <= (frames.len() as f64 - 1.0)) {
         return None;
     }
