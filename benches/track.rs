@@ -16,7 +16,7 @@ use embusen::track::fused::FusedParams;
 use embusen::track::riecicky::RiecickyParams;
 use embusen::track::suit_motion::VideoTiming;
 use embusen::track::tracker::TrackMethod;
-use embusen::track::views::{ViewTrack, fuse_views};
+use embusen::track::views::{ViewSightings, fuse_views};
 
 #[allow(dead_code)]
 #[path = "../tests/common/filmed.rs"]
@@ -70,8 +70,7 @@ fn main() {
     });
     let timings =
         [&scene, &second].map(|s| VideoTiming { fps: s.fps, frame_count: s.frames.len(), offset_s: 0.0 });
-    let views = [0, 1].map(|k| ViewTrack { track: &tracks[k], timing: &timings[k] });
-    std::hint::black_box(fuse_views(&views));
+    std::hint::black_box(fuse_views(&tracks[0], &timings[0], &[ViewSightings::of(&tracks[1], timings[1])]));
     let two_ms = 1e3 * started.elapsed().as_secs_f64() / n as f64;
     println!(
         "  two views      {two_ms:7.2}  (both pipelines and trackers); two / one view = {:.2}",

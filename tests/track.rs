@@ -19,7 +19,7 @@ use embusen::track::offset::estimate_offset_s;
 use embusen::track::riecicky::RiecickyParams;
 use embusen::track::suit_motion::VideoTiming;
 use embusen::track::tracker::{TrackDetails, TrackMethod};
-use embusen::track::views::{ViewTrack, fuse_views};
+use embusen::track::views::{ViewSightings, fuse_views};
 use glam::DVec2;
 use std::path::Path;
 
@@ -503,16 +503,33 @@ fn a_finished_take_opens_as_tracked(
     assert_eq!(take.series.recording_time_s[100], 100.0 / 30.0);
     // The CSV holds the track to 0.1 mm: the outlines are the job's, but
     // for a pixel here and there.
-    assert_eq!(take.outlines_px.len(), outlines.len());
-    for (i, (opened, tracked)) in take.outlines_px.iter().zip(outlines).enumerate() {
-        let tracked: HashSet<_> = tracked.iter().collect();
-        let shared = opened.iter().filter(|p| tracked.contains(p)).count();
-        assert!(
-            shared * 100 >= 98 * tracked.len().max(opened.len()),
-            "frame {i}: {shared} of {} pixels",
-            tracked.len()
-        );
-    }
+    let outlines_are_the_jobs = |take: &FinishedTake| {
+        assert_eq!(take.outlines_px.len(), outlines.len());
+        for (i, (opened, tracked)) in take.outlines_px.iter().zip(outlines).enumerate() {
+            let tracked: HashSet<_> = tracked.iter().collect();
+            let shared = opened.iter().filter(|p| tracked.contains(p)).count();
+            assert!(
+                shared * 100 >= 98 * tracked.len().max(opened.len()),
+                "frame {i}: {shared} of {} pixels",
+                tracked.len()
+            );
+        }
+    };
+    outlines_are_the_jobs(&take);
+    // Opened as a second camera's view is (no CSV: it is on the first
+    // view's frames), the corrected recording's hips place the body: the
+    // same outlines, no confidence or uncertainty stated.
+    let other = FinishedTake::open_other_view(
+        NamedBytes { name: "walk.tracked.bvh", bytes: &tracked_bytes },
+        NamedBytes { name: "walk.camera.json", bytes: &camera_bytes },
+        "walk.mp4",
+        video,
+        0.0,
+    )
+    .unwrap();
+    outlines_are_the_jobs(&other);
+    assert!(other.series.uncertainty_cm.iter().all(|u| u.is_nan()));
+    assert!((other.path[100].floor_cm - take.path[100].floor_cm).length() < 0.1);
     let refused = |result: Result<FinishedTake, embusen::error::Error>, expected: &str| {
         let said = result.unwrap_err().to_string();
         assert!(said.contains(expected), "{said}");
@@ -652,11 +669,8 @@ fn shared_scene_figures() -> Option<&'static Vec<SceneFigures>> {
                     offset_s: 0.0,
                 };
                 let (first_timing, second_timing) = (timing(&scene), timing(&second));
-                let views = [
-                    ViewTrack { track: &fused, timing: &first_timing },
-                    ViewTrack { track: &second_track, timing: &second_timing },
-                ];
-                let two_views = errors_of(&fuse_views(&views).unwrap());
+                let others = [ViewSightings::of(&second_track, second_timing)];
+                let two_views = errors_of(&fuse_views(&fused, &first_timing, &others));
                 let suit = SuitMotion::new(&scene.recording).unwrap();
                 let suit_floor = suit.suit_floor_at(&times);
                 let figures = SceneFigures {

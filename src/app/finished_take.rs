@@ -64,12 +64,8 @@ impl FinishedTake {
         video: VideoDescription,
         offset_s: f64,
     ) -> Result<FinishedTake, Error> {
-        check_video(video_name, &video, offset_s)?;
-        let recording = Recording::parse(recording.bytes, recording.name, None)?;
-        let camera = Camera::from_json(camera.text()?, camera.name)?;
-        camera.check_image_size(video.width_px, video.height_px, video_name)?;
+        let (recording, camera, timing) = read_view(recording, camera, video_name, &video, offset_s)?;
         let samples = parse_hips_csv(track.text()?, track.name)?;
-        let timing = VideoTiming { fps: video.fps, frame_count: video.frame_count, offset_s };
         if samples.len() != video.frame_count {
             return Err(Error::whole(
                 track.name,
@@ -100,26 +96,84 @@ impl FinishedTake {
         let suit = SuitMotion::new(&recording)?;
         let floor_cm: Vec<DVec2> = samples.iter().map(|s| DVec2::new(s.hips_cm.x, s.hips_cm.z)).collect();
         check_fit(&suit, &timing, &floor_cm, &recording.name, track.name)?;
-        let shape = body_shape_of(&recording)?;
-        let outlines_px = outlines_px(&camera, &floor_cm, |i| posed_body(&suit, &shape, &timing, i));
-        let path = samples
-            .iter()
-            .zip(&floor_cm)
-            .enumerate()
-            .map(|(frame, (s, &floor_cm))| FrameProgress {
-                frame,
-                floor_cm,
-                confidence: s.confidence.unwrap_or(0.0),
-            })
-            .collect();
-        let series = CameraSeries {
-            hips_cm: recording.poses.trajectory(suit.hips),
-            recording_time_s: timing.bvh_times_s(samples.len()),
-            uncertainty_cm: samples.iter().map(|s| s.uncertainty_cm.unwrap_or(f64::NAN)).collect(),
-            ..CameraSeries::default()
-        };
-        Ok(FinishedTake { path, outlines_px, series })
+        let confidence = samples.iter().map(|s| s.confidence.unwrap_or(0.0)).collect();
+        let uncertainty_cm = samples.iter().map(|s| s.uncertainty_cm.unwrap_or(f64::NAN)).collect();
+        view_of(&recording, &suit, &camera, &timing, floor_cm, confidence, uncertainty_cm)
     }
+
+    /// Opens another view of a take tracked by several cameras: its
+    /// corrected `recording` (the one track of all the views) as `camera`
+    /// films it in `video`, the recording read `offset_s` after each video
+    /// frame's time. The track CSV is on the first view's frames, so this
+    /// view's places come from the recording's own hips, which `embusen
+    /// track` put on the track; it states no confidence (0) or uncertainty
+    /// (NaN). Errors as [`FinishedTake::open`]'s, and a recording with no
+    /// pose in any frame of this video.
+    pub fn open_other_view(
+        recording: NamedBytes,
+        camera: NamedBytes,
+        video_name: &str,
+        video: VideoDescription,
+        offset_s: f64,
+    ) -> Result<FinishedTake, Error> {
+        let (recording, camera, timing) = read_view(recording, camera, video_name, &video, offset_s)?;
+        let suit = SuitMotion::new(&recording)?;
+        let floor_cm = suit.suit_floor_at(&timing.bvh_times_s(video.frame_count));
+        if floor_cm.iter().all(|p| !p.is_finite()) {
+            return Err(Error::whole(
+                &recording.name,
+                format!("has no pose at any frame of {video_name}: check the offset"),
+            ));
+        }
+        let (unseen, unstated) = (vec![0.0; floor_cm.len()], vec![f64::NAN; floor_cm.len()]);
+        view_of(&recording, &suit, &camera, &timing, floor_cm, unseen, unstated)
+    }
+}
+
+/// The recording and camera of a view read, checked against its `video`
+/// (a video with no frames, a camera of another image size are errors),
+/// and the video's timing.
+fn read_view(
+    recording: NamedBytes,
+    camera: NamedBytes,
+    video_name: &str,
+    video: &VideoDescription,
+    offset_s: f64,
+) -> Result<(Recording, Camera, VideoTiming), Error> {
+    check_video(video_name, video, offset_s)?;
+    let recording = Recording::parse(recording.bytes, recording.name, None)?;
+    let camera = Camera::from_json(camera.text()?, camera.name)?;
+    camera.check_image_size(video.width_px, video.height_px, video_name)?;
+    let timing = VideoTiming { fps: video.fps, frame_count: video.frame_count, offset_s };
+    Ok((recording, camera, timing))
+}
+
+/// A view of a finished take from the hips' place per video frame
+/// (`floor_cm`, NaN where unknown) and what the track states there.
+fn view_of(
+    recording: &Recording,
+    suit: &SuitMotion,
+    camera: &Camera,
+    timing: &VideoTiming,
+    floor_cm: Vec<DVec2>,
+    confidence: Vec<f64>,
+    uncertainty_cm: Vec<f64>,
+) -> Result<FinishedTake, Error> {
+    let shape = body_shape_of(recording)?;
+    let outlines_px = outlines_px(camera, &floor_cm, |i| posed_body(suit, &shape, timing, i));
+    let path = floor_cm
+        .iter()
+        .zip(&confidence)
+        .enumerate()
+        .map(|(frame, (&floor_cm, &confidence))| FrameProgress { frame, floor_cm, confidence })
+        .collect();
+    let series = CameraSeries {
+        hips_cm: recording.poses.trajectory(suit.hips),
+        recording_time_s: timing.bvh_times_s(floor_cm.len()),
+        uncertainty_cm,
+        ..CameraSeries::default()
+    };
+    Ok(FinishedTake { path, outlines_px, series })
 }
 
 /// An error naming `recording_name` when the recording's own hips (`suit`'s

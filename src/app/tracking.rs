@@ -28,7 +28,7 @@ use crate::track::silhouette::SilhouetteRenderer;
 use crate::track::suit_motion::VideoTiming;
 use crate::track::take::{Take, TakeExport};
 use crate::track::tracker::{Track, TrackDetails, TrackMethod, Tracker};
-use crate::track::views::{ViewTrack, fuse_views};
+use crate::track::views::{ViewSightings, fuse_views};
 
 /// The video as the page's decoder describes it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -437,6 +437,78 @@ impl TrackingJob {
     }
 }
 
+/// A view of a take tracked to the end by its own job, as the first
+/// view's job weighs it in ([`TrackingJob::weigh`]): its video's name (for
+/// messages) and what weighing reads of its track. In the page it crosses
+/// from its worker to the first view's.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FinishedView {
+    pub video_name: String,
+    pub sightings: ViewSightings,
+}
+
+impl TrackingJob {
+    /// This view, tracked to the end, for the first view's job to weigh in;
+    /// an error before `finish`.
+    pub fn finished_view(&self) -> Result<FinishedView, Error> {
+        let track = self.finished_track()?;
+        Ok(FinishedView {
+            video_name: self.video_name.clone(),
+            sightings: ViewSightings::of(track, self.take.setup.timing),
+        })
+    }
+
+    /// This job's finished track (the first view's) weighed with the
+    /// `others` ([`fuse_views`]), which becomes the job's track (its
+    /// outlines, series and errors against a truth are then the weighed
+    /// track's): what `embusen track` with several videos writes, and
+    /// what the user should know of the views together (a view that films
+    /// another span of the recording than the first: the track is on the
+    /// first view's frames, each weighed with the views that film it).
+    /// Errors naming the view: this job not finished; a view that puts the
+    /// body more than [`VIEWS_DISAGREE_CM`] (the median over the take) from
+    /// the first view's, as cameras calibrated into different worlds do.
+    /// The job's track is as it was after an error.
+    pub fn weigh(&mut self, others: &[FinishedView]) -> Result<(TakeExport, Vec<String>), Error> {
+        let first_track = self.finished_track()?;
+        let first_timing = &self.take.setup.timing;
+        let mut warnings = Vec::new();
+        // The span of the recording a view films (s).
+        let span_s = |timing: &VideoTiming| {
+            (timing.offset_s, timing.offset_s + timing.frame_count as f64 / timing.fps)
+        };
+        let (first_from, first_to) = span_s(first_timing);
+        for (k, view) in others.iter().enumerate() {
+            let number = k + 2;
+            let timing = &view.sightings.timing;
+            let (from, to) = span_s(timing);
+            // More than a frame and a half apart at either end: not rounding.
+            let frame_s = 1.0 / timing.fps.min(first_timing.fps);
+            if (from - first_from).abs() > 1.5 * frame_s || (to - first_to).abs() > 1.5 * frame_s {
+                warnings.push(format!(
+                    "view {number} ({}) films the recording's {from:.2}–{to:.2} s, view 1 ({}) {first_from:.2}–{first_to:.2} s: the track is on view 1's frames, each weighed with the views that film it",
+                    view.video_name, self.video_name,
+                ));
+            }
+            let apart_cm = median_apart_cm(first_track, first_timing, &view.sightings);
+            if apart_cm > VIEWS_DISAGREE_CM {
+                return Err(Error::whole(
+                    &view.video_name,
+                    format!(
+                        "view {number} puts the body {apart_cm:.0} cm from where view 1 ({}) does, the median over the take: its camera and view 1's do not agree about the floor (calibrate both from the same board, lying where it lay)",
+                        self.video_name
+                    ),
+                ));
+            }
+        }
+        let sightings: Vec<ViewSightings> = others.iter().map(|v| v.sightings.clone()).collect();
+        let fused = fuse_views(first_track, first_timing, &sightings);
+        let export = self.take.export(&fused, first_timing);
+        self.track = Some(fused);
+        Ok((export, warnings))
+    }
+}
+
 /// Where two views may disagree about where the body stands, the median
 /// over the take (cm): each camera places it within a few centimetres
 /// across its line of sight and 5–15 along it, so views of one world agree
@@ -444,69 +516,16 @@ impl TrackingJob {
 /// a board moved between the stills) disagree by the board's move.
 pub const VIEWS_DISAGREE_CM: f64 = 30.0;
 
-/// Several views of one take, each tracked to the end by its own job
-/// (`jobs[0]` the first view, whose video frames the result keeps), weighed
-/// into one track ([`fuse_views`]): what `embusen track` with several
-/// videos writes, that track, and what the user should know of the views
-/// together (a view that films another span of the recording than the
-/// first: the track is on the first view's frames, each weighed with the
-/// views that film it). Errors naming the view: a job not finished; a
-/// view that puts the body more than [`VIEWS_DISAGREE_CM`] (the median
-/// over the take) from the first view's, as cameras calibrated into
-/// different worlds do.
-pub fn weigh_views(jobs: &[&TrackingJob]) -> Result<(TakeExport, Track, Vec<String>), Error> {
-    let Some(first) = jobs.first() else { return Err(Error::whole("embusen track", "no view to track")) };
-    let first_track = first.finished_track()?;
-    let mut views = Vec::with_capacity(jobs.len());
-    let mut warnings = Vec::new();
-    // The span of the recording a view films (s).
-    let span_s =
-        |timing: &VideoTiming| (timing.offset_s, timing.offset_s + timing.frame_count as f64 / timing.fps);
-    let first_timing = &first.take.setup.timing;
-    let (first_from, first_to) = span_s(first_timing);
-    for (k, job) in jobs.iter().enumerate() {
-        let timing = &job.take.setup.timing;
-        let (from, to) = span_s(timing);
-        // More than a frame and a half apart at either end: not rounding.
-        let frame_s = 1.0 / timing.fps.min(first_timing.fps);
-        if k > 0 && ((from - first_from).abs() > 1.5 * frame_s || (to - first_to).abs() > 1.5 * frame_s) {
-            warnings.push(format!(
-                "view {} ({}) films the recording's {from:.2}–{to:.2} s, view 1 ({}) {first_from:.2}–{first_to:.2} s: the track is on view 1's frames, each weighed with the views that film it",
-                k + 1,
-                job.video_name,
-                first.video_name,
-            ));
-        }
-        let view = ViewTrack { track: job.finished_track()?, timing: &job.take.setup.timing };
-        if k > 0 {
-            let apart_cm = median_apart_cm(first_track, first_timing, &view);
-            if apart_cm > VIEWS_DISAGREE_CM {
-                return Err(Error::whole(
-                    &job.video_name,
-                    format!(
-                        "view {} puts the body {apart_cm:.0} cm from where view 1 ({}) does, the median over the take: its camera and view 1's do not agree about the floor (calibrate both from the same board, lying where it lay)",
-                        k + 1,
-                        first.video_name
-                    ),
-                ));
-            }
-        }
-        views.push(view);
-    }
-    let fused = fuse_views(&views).ok_or_else(|| Error::whole(&first.video_name, "no view to weigh"))?;
-    Ok((first.take.export(&fused, &first.take.setup.timing), fused, warnings))
-}
-
 /// The median distance (cm) between where `first` (timed by `timing`) and
 /// `view` put the hips at the first's video frames, where both do.
-fn median_apart_cm(first: &Track, timing: &VideoTiming, view: &ViewTrack) -> f64 {
+fn median_apart_cm(first: &Track, timing: &VideoTiming, view: &ViewSightings) -> f64 {
     let apart: Vec<f64> = first
         .frames
         .iter()
         .enumerate()
         .filter_map(|(i, frame)| {
             let position = view.timing.video_position(timing.bvh_time_s(i)).round();
-            let other = view.track.frames.get(usize::try_from(position as i64).ok()?)?;
+            let other = view.frames.get(usize::try_from(position as i64).ok()?)?;
             let d = (other.floor_cm - frame.floor_cm).length();
             d.is_finite().then_some(d)
         })
@@ -516,7 +535,8 @@ fn median_apart_cm(first: &Track, timing: &VideoTiming, view: &ViewTrack) -> f64
 
 /// Per video frame `i`, the outer contour of `posed(i)` (a body model
 /// standing at the floor's origin) moved to `floor_cm[i]` (x, z), as
-/// `camera` sees it: pixels `[x, y]`, none in a frame without a pose.
+/// `camera` sees it: pixels `[x, y]`, none in a frame without a pose or
+/// a place.
 pub(crate) fn outlines_px(
     camera: &Camera,
     floor_cm: &[DVec2],
@@ -527,6 +547,9 @@ pub(crate) fn outlines_px(
         .iter()
         .enumerate()
         .map(|(i, floor)| {
+            if !floor.is_finite() {
+                return Vec::new();
+            }
             let Ok(Some(body)) = posed(i) else { return Vec::new() };
             renderer.render(&body, DVec3::new(floor.x, 0.0, floor.y)).contour()
         })

@@ -23,31 +23,72 @@ use glam::{DMat2, DVec2};
 use crate::track::suit_motion::VideoTiming;
 use crate::track::tracker::{Track, TrackedFrame};
 
-/// A view's track and how its video is timed against the recording.
-#[derive(Clone, Copy, Debug)]
-pub struct ViewTrack<'a> {
-    pub track: &'a Track,
-    pub timing: &'a VideoTiming,
+/// What weighing reads of one view's finished track: per video frame
+/// where it put the body, how sure it was and how well it saw, how its
+/// video is timed against the recording, and its warnings. Plain data, so
+/// that a view tracked in another Web Worker crosses to the first view's as
+/// it is (`web::camera_api::ViewSightingsJs`): the weighing is one code for
+/// the CLI and the page.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ViewSightings {
+    pub timing: VideoTiming,
+    /// Per video frame of the view.
+    pub frames: Vec<Sighting>,
+    pub warnings: Vec<String>,
 }
 
-/// The views' tracks weighed together on the first view's video frames:
-/// per frame the first view's, and every other view's at the same
-/// instant of the recording (between its two nearest frames), each by the
-/// inverse of its covariance. A view with no finite floor point or
-/// covariance at that instant drops out of that frame. The first view's
-/// frames keep their times, heights and per-view facts (its confidence,
-/// its camera's measurement); the fused frame's confidence is the best of
-/// the views'. With one view, its track as it is.
-pub fn fuse_views(views: &[ViewTrack]) -> Option<Track> {
-    let (first, others) = views.split_first()?;
-    let mut fused = first.track.clone();
+impl ViewSightings {
+    /// What weighing reads of `track`, filmed at `timing`.
+    pub fn of(track: &Track, timing: VideoTiming) -> ViewSightings {
+        ViewSightings {
+            timing,
+            frames: track.frames.iter().map(Sighting::of).collect(),
+            warnings: track.warnings.clone(),
+        }
+    }
+
+    /// The view's estimate at `recording_s` of the recording: between its
+    /// two video frames read nearest that instant; none outside its video.
+    pub fn at(&self, recording_s: f64) -> Option<Sighting> {
+        let frames = &self.frames;
+        let position = self.timing.video_position(recording_s);
+        if !(position >= 0.0 && position <= (frames.len() as f64 - 1.0)) {
+            return None;
+        }
+        let (a, t) = (position.floor() as usize, position.fract());
+        let at = *frames.get(a)?;
+        let next = frames.get(a + 1).copied().filter(|_| t > 1e-9);
+        match next {
+            Some(next) if at.is_usable() && next.is_usable() => Some(Sighting {
+                floor_cm: at.floor_cm.lerp(next.floor_cm, t),
+                covariance_cm2: at.covariance_cm2 * (1.0 - t) + next.covariance_cm2 * t,
+                confidence: at.confidence * (1.0 - t) + next.confidence * t,
+            }),
+            // One of the two has no reading: the nearer one alone, if it has.
+            Some(next) if t > 0.5 => Some(next),
+            _ => Some(at),
+        }
+    }
+}
+
+/// The first view's track (filmed at `first_timing`) weighed with the
+/// `others` on its video frames: per frame the first view's, and every
+/// other view's at the same instant of the recording (between its two
+/// nearest frames), each by the inverse of its covariance. A view with no
+/// finite floor point or covariance at that instant drops out of that
+/// frame. The first view's frames keep their times, heights and per-view
+/// facts (its confidence, its camera's measurement); the fused frame's
+/// confidence is the best of the views'. With no others, the first's
+/// track as it is.
+pub fn fuse_views(first: &Track, first_timing: &VideoTiming, others: &[ViewSightings]) -> Track {
+    let mut fused = first.clone();
     if others.is_empty() {
-        return Some(fused);
+        return fused;
     }
     for (i, frame) in fused.frames.iter_mut().enumerate() {
-        let recording_s = first.timing.bvh_time_s(i);
+        let recording_s = first_timing.bvh_time_s(i);
         let seen: Vec<Sighting> = std::iter::once(Some(Sighting::of(frame)))
-            .chain(others.iter().map(|view| sighting_at(view, recording_s)))
+            .chain(others.iter().map(|view| view.at(recording_s)))
             .flatten()
             .filter(Sighting::is_usable)
             .collect();
@@ -59,17 +100,20 @@ pub fn fuse_views(views: &[ViewTrack]) -> Option<Track> {
         }
     }
     for (k, view) in others.iter().enumerate() {
-        fused.warnings.extend(view.track.warnings.iter().map(|w| format!("view {}: {w}", k + 2)));
+        fused.warnings.extend(view.warnings.iter().map(|w| format!("view {}: {w}", k + 2)));
     }
-    Some(fused)
+    fused
 }
 
 /// One view's estimate at an instant.
-#[derive(Clone, Copy, Debug)]
-struct Sighting {
-    floor_cm: DVec2,
-    covariance_cm2: DMat2,
-    confidence: f64,
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sighting {
+    /// Where it puts the hips on the floor (x, z, cm).
+    pub floor_cm: DVec2,
+    /// How sure (cm², the floor's x and z); NaN where it states none.
+    pub covariance_cm2: DMat2,
+    /// How well its camera saw the body, 0 to 1.
+    pub confidence: f64,
 }
 
 impl Sighting {
@@ -85,29 +129,6 @@ impl Sighting {
     fn is_usable(&self) -> bool {
         let c = self.covariance_cm2;
         self.floor_cm.is_finite() && c.is_finite() && c.determinant() > 1e-12 && c.x_axis.x > 0.0
-    }
-}
-
-/// `view`'s estimate at `recording_s` of the recording: between its two
-/// video frames read nearest that instant; none outside its video.
-fn sighting_at(view: &ViewTrack, recording_s: f64) -> Option<Sighting> {
-    let frames = &view.track.frames;
-    let position = view.timing.video_position(recording_s);
-    if !(position >= 0.0 && position <= (frames.len() as f64 - 1.0)) {
-        return None;
-    }
-    let (a, t) = (position.floor() as usize, position.fract());
-    let at = Sighting::of(frames.get(a)?);
-    let next = frames.get(a + 1).map(Sighting::of).filter(|_| t > 1e-9);
-    match next {
-        Some(next) if at.is_usable() && next.is_usable() => Some(Sighting {
-            floor_cm: at.floor_cm.lerp(next.floor_cm, t),
-            covariance_cm2: at.covariance_cm2 * (1.0 - t) + next.covariance_cm2 * t,
-            confidence: at.confidence * (1.0 - t) + next.confidence * t,
-        }),
-        // One of the two has no reading: the nearer one alone, if it has.
-        Some(next) if t > 0.5 => Some(next),
-        _ => Some(at),
     }
 }
 
@@ -163,16 +184,12 @@ mod tests {
         let (a, b) =
             (DVec2::new(0.0, 1.0), DVec2::from_angle(60f64.to_radians()).rotate(DVec2::new(0.0, 1.0)));
         let (first, second) = (view(10, 8.0 * a, a, 8.0), view(10, -8.0 * b, b, 8.0));
-        let fused = fuse_views(&[
-            ViewTrack { track: &first, timing: &timing },
-            ViewTrack { track: &second, timing: &timing },
-        ])
-        .unwrap();
+        let fused = fuse_views(&first, &timing, &[ViewSightings::of(&second, timing)]);
         let error = (fused.frames[5].floor_cm - DVec2::new(100.0, 200.0)).length();
         assert!(error < 1.5, "fused {error} cm off, each view 8 cm");
         assert!(fused.frames[5].uncertainty_cm < first.frames[5].uncertainty_cm / 2.0);
         // One view: as it is.
-        let alone = fuse_views(&[ViewTrack { track: &first, timing: &timing }]).unwrap();
+        let alone = fuse_views(&first, &timing, &[]);
         assert_eq!(alone, first);
     }
 
@@ -188,9 +205,7 @@ mod tests {
         for f in &mut second.frames[..10] {
             f.covariance_cm2 = DMat2::NAN;
         }
-        let views =
-            [ViewTrack { track: &first, timing: &timing }, ViewTrack { track: &second, timing: &late }];
-        let fused = fuse_views(&views).unwrap();
+        let fused = fuse_views(&first, &timing, &[ViewSightings::of(&second, late)]);
         // Frame 2 (0.067 s) is before the second video (and frame 5, its
         // frame 4, where it lost the body): the first view's alone.
         for i in [2, 5] {

@@ -15,13 +15,15 @@ use wasm_bindgen::JsValue;
 
 use super::js_object::{read, refuse_unknown_fields};
 use crate::app::frame_layers::Layer;
-use crate::app::tracking::{NamedBytes, PaperCandidates, VideoDescription};
+use crate::app::tracking::{FinishedView, NamedBytes, PaperCandidates, VideoDescription};
 use crate::track::fused::FusedParams;
 use crate::track::offset::OffsetEstimate;
 use crate::track::path::PathRequest;
 use crate::track::riecicky::RiecickyParams;
+use crate::track::suit_motion::VideoTiming;
 use crate::track::tracker::TrackMethod;
-use glam::DVec2;
+use crate::track::views::{Sighting, ViewSightings};
+use glam::{DMat2, DVec2};
 
 /// A file the page read: its name (errors name it) and its bytes.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, Tsify)]
@@ -144,13 +146,16 @@ impl TakeOptions {
 /// the video they were tracked from, and the offset they were tracked at.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, Tsify)]
 #[serde(deny_unknown_fields)]
+#[tsify(missing_as_null)]
 pub struct FinishedTakeOptions {
     /// The corrected recording (BVH).
     pub recording: NamedFile,
     /// camera.json.
     pub camera: NamedFile,
-    /// The track CSV, a row per video frame.
-    pub track: NamedFile,
+    /// The track CSV, a row per video frame; `null` for a view other than
+    /// the first of a take filmed by several cameras (the CSV is on the
+    /// first's frames: the recording's hips place the body).
+    pub track: Option<NamedFile>,
     pub video: VideoFacts,
     /// Added to a video frame's time to read the BVH (s), as `--offset-s`.
     pub offset_s: f64,
@@ -260,6 +265,72 @@ impl PathWork {
             prediction_cm: work.prediction.into(),
             truncate_px: work.truncate_px,
             candidates_cm: work.candidates.into_iter().map(DVec2::from).collect(),
+        })
+    }
+}
+
+/// A view tracked to the end in its own worker
+/// ([`FinishedView`](crate::app::tracking::FinishedView)), as the first
+/// view's worker weighs it in (`CameraJob.weigh`); the page only carries
+/// it between them. Per video frame of the view: `floor_cm` x, z (cm),
+/// `covariance_cm2` xx, xz, zx, zz (cm², NaN where none is stated),
+/// `confidence` 0 to 1.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, Tsify)]
+#[serde(deny_unknown_fields)]
+pub struct FinishedViewFrames {
+    pub video_name: String,
+    pub fps: f64,
+    pub frame_count: usize,
+    pub offset_s: f64,
+    pub floor_cm: Vec<f64>,
+    pub covariance_cm2: Vec<f64>,
+    pub confidence: Vec<f64>,
+    pub warnings: Vec<String>,
+}
+
+impl From<&FinishedView> for FinishedViewFrames {
+    fn from(view: &FinishedView) -> FinishedViewFrames {
+        let frames = &view.sightings.frames;
+        let timing = view.sightings.timing;
+        FinishedViewFrames {
+            video_name: view.video_name.clone(),
+            fps: timing.fps,
+            frame_count: timing.frame_count,
+            offset_s: timing.offset_s,
+            floor_cm: frames.iter().flat_map(|f| f.floor_cm.to_array()).collect(),
+            covariance_cm2: frames.iter().flat_map(|f| f.covariance_cm2.to_cols_array()).collect(),
+            confidence: frames.iter().map(|f| f.confidence).collect(),
+            warnings: view.sightings.warnings.clone(),
+        }
+    }
+}
+
+impl FinishedViewFrames {
+    /// The view from the page's object; an unknown field, or lists of
+    /// other lengths than its frames', an error naming the view.
+    pub fn from_js(value: Ts<FinishedViewFrames>) -> Result<FinishedView, String> {
+        let v: FinishedViewFrames = read(value.js_value(), "a view to weigh")?;
+        let n = v.confidence.len();
+        if v.floor_cm.len() != 2 * n || v.covariance_cm2.len() != 4 * n {
+            return Err(format!(
+                "the view of {}: {} confidences, {} floor numbers (2 a frame), {} covariance numbers (4 a frame)",
+                v.video_name,
+                n,
+                v.floor_cm.len(),
+                v.covariance_cm2.len()
+            ));
+        }
+        let frames = (0..n)
+            .map(|i| Sighting {
+                floor_cm: DVec2::from_slice(&v.floor_cm[2 * i..]),
+                covariance_cm2: DMat2::from_cols_slice(&v.covariance_cm2[4 * i..]),
+                confidence: v.confidence[i],
+            })
+            .collect();
+        let timing = VideoTiming { fps: v.fps, frame_count: v.frame_count, offset_s: v.offset_s };
+        Ok(FinishedView {
+            video_name: v.video_name,
+            sightings: ViewSightings { timing, frames, warnings: v.warnings },
         })
     }
 }

@@ -12,8 +12,8 @@ use wasm_bindgen::prelude::*;
 use crate::app::finished_take::FinishedTake;
 use crate::app::tracking::TrackingJob;
 use crate::web::camera_api::{
-    FinishedTakeOptions, FrameCandidates, FrameProgress, NamedFile, OffsetFound, PathWork, TakeFiles,
-    TakeOptions, TruthErrors,
+    FinishedTakeOptions, FinishedViewFrames, FrameCandidates, FrameProgress, NamedFile, OffsetFound,
+    PathWork, TakeFiles, TakeOptions, TruthErrors,
 };
 use crate::web::js_object::read;
 use crate::web::take_series::TakeSeries;
@@ -127,6 +127,34 @@ impl CameraJob {
         Ok(files.into_ts()?)
     }
 
+    /// This view, tracked to the end, for the first view's job to weigh
+    /// in (`weigh`, in that view's worker).
+    pub fn finished_view(&self) -> Result<Ts<FinishedViewFrames>, JsError> {
+        let view = self.job.finished_view().map_err(js_error)?;
+        Ok(FinishedViewFrames::from(&view).into_ts()?)
+    }
+
+    /// After `finish`, this view's track (the first view's) weighed with the
+    /// other views' (`finished_view` of their jobs): the bytes `embusen
+    /// track` writes for all the videos; the outlines, the series and the
+    /// errors against a truth are then the weighed track's. The warnings
+    /// are this view's and the weighing's (each other view says its own).
+    /// An error naming the view that does not agree about the floor.
+    pub fn weigh(&mut self, others: Vec<Ts<FinishedViewFrames>>) -> Result<Ts<TakeFiles>, JsError> {
+        let others = others
+            .into_iter()
+            .map(FinishedViewFrames::from_js)
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(js_error)?;
+        let (export, warnings) = self.job.weigh(&others).map_err(js_error)?;
+        let files = TakeFiles {
+            recording_text: export.recording_text,
+            track_csv: export.track_csv,
+            warnings: self.warnings.iter().chain(&warnings).cloned().collect(),
+        };
+        Ok(files.into_ts()?)
+    }
+
     /// The body's outline over each video frame where the finished track
     /// puts it: per frame its pixels, `x, y` pixel after pixel.
     pub fn outlines_px(&self) -> Vec<js_sys::Uint32Array> {
@@ -196,14 +224,14 @@ impl FinishedTakeView {
     #[wasm_bindgen(constructor)]
     pub fn new(options: Ts<FinishedTakeOptions>) -> Result<FinishedTakeView, JsError> {
         let o = FinishedTakeOptions::from_js(options).map_err(js_error)?;
-        let take = FinishedTake::open(
-            o.recording.named_bytes(),
-            o.camera.named_bytes(),
-            o.track.named_bytes(),
-            &o.video.name,
-            (&o.video).into(),
-            o.offset_s,
-        )
+        let (recording, camera, video) =
+            (o.recording.named_bytes(), o.camera.named_bytes(), (&o.video).into());
+        let take = match &o.track {
+            Some(track) => {
+                FinishedTake::open(recording, camera, track.named_bytes(), &o.video.name, video, o.offset_s)
+            }
+            None => FinishedTake::open_other_view(recording, camera, &o.video.name, video, o.offset_s),
+        }
         .map_err(js_error)?;
         Ok(FinishedTakeView { take })
     }

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use embusen::Error;
-use embusen::app::tracking::{Background, TakeInputs, TrackingJob, VideoDescription, weigh_views};
+use embusen::app::tracking::{Background, TakeInputs, TrackingJob, VideoDescription};
 use embusen::camera::Camera;
 use embusen::eval::track::{TrackErrors, share_within_uncertainty, track_errors};
 use embusen::image::GreyImage;
@@ -21,7 +21,7 @@ use embusen::track::riecicky::RiecickyParams;
 use embusen::track::suit_motion::{SuitMotion, VideoTiming};
 use embusen::track::take::TakeExport;
 use embusen::track::tracker::{Track, TrackMethod};
-use embusen::track::views::{ViewTrack, fuse_views};
+use embusen::track::views::{ViewSightings, fuse_views};
 use glam::DVec2;
 
 #[derive(clap::Args)]
@@ -338,22 +338,24 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
         };
         jobs.push(track_view(view, &recording, args, &said)?);
     }
-    let Some((first_job, first_export, ms_per_frame)) = jobs.first() else {
+    let ms_per_frame: f64 = jobs.iter().map(|(_, _, ms)| ms).sum();
+    let views_said = if jobs.len() > 1 { format!(" by {} cameras", jobs.len()) } else { String::new() };
+    let others = jobs.iter().skip(1).map(|(job, _, _)| job.finished_view()).collect::<Result<Vec<_>, _>>()?;
+    let Some((first_job, first_export, _)) = jobs.first_mut() else {
         return Err(Error::whole("embusen track", "no video to track"));
     };
-    let (export, track) = if jobs.len() == 1 {
-        let track = first_job.track().ok_or_else(|| {
-            Error::whole(&args.video[0].display().to_string(), "the tracking did not finish")
-        })?;
-        (first_export.clone(), track.clone())
+    let export = if others.is_empty() {
+        first_export.clone()
     } else {
-        let finished: Vec<&TrackingJob> = jobs.iter().map(|(job, _, _)| job).collect();
-        let (export, track, warnings) = weigh_views(&finished)?;
+        let (export, warnings) = first_job.weigh(&others)?;
         for w in &warnings {
             eprintln!("warning: {w}");
         }
-        (export, track)
+        export
     };
+    let track = first_job
+        .track()
+        .ok_or_else(|| Error::whole(&args.video[0].display().to_string(), "the tracking did not finish"))?;
     let out_name = args.output.display().to_string();
     std::fs::write(&args.output, &export.recording_text)
         .map_err(|e| Error::whole(&out_name, format!("cannot write: {e}")))?;
@@ -361,8 +363,6 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
     std::fs::write(&csv, &export.track_csv)
         .map_err(|e| Error::whole(&csv.display().to_string(), format!("cannot write: {e}")))?;
     let seen = track.frames.iter().filter(|f| f.confidence > 0.0).count();
-    let ms_per_frame: f64 = ms_per_frame + jobs[1..].iter().map(|(_, _, ms)| ms).sum::<f64>();
-    let views_said = if jobs.len() > 1 { format!(" by {} cameras", jobs.len()) } else { String::new() };
     println!(
         "{}: {} frames tracked{views_said} ({} seen by the camera), {ms_per_frame:.1} ms per frame; wrote {out_name} and {}",
         track.method().name(),
@@ -657,13 +657,8 @@ fn second_view_rows(
     let view_truth = parse_hips_csv(&read_text(&view_path)?, &view_path.display().to_string())?;
     let view_truth: Vec<DVec2> = view_truth.iter().map(|s| DVec2::new(s.hips_cm.x, s.hips_cm.z)).collect();
     let mut rows = vec![scene_row(name, "view2", &view_track, &view_truth, ms_per_frame)];
-    let views = [
-        ViewTrack { track: first, timing: first_timing },
-        ViewTrack { track: &view_track, timing: &view_timing },
-    ];
-    if let Some(fused) = fuse_views(&views) {
-        rows.push(scene_row(name, "2views", &fused, truth_floor, first_ms + ms_per_frame));
-    }
+    let fused = fuse_views(first, first_timing, &[ViewSightings::of(&view_track, view_timing)]);
+    rows.push(scene_row(name, "2views", &fused, truth_floor, first_ms + ms_per_frame));
     Ok(rows)
 }
 
