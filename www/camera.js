@@ -16,28 +16,34 @@
 
 import { buildPanel, download } from "./camera/panel.js";
 import { TakeInputs, kindOf, stemOf } from "./camera/inputs.js";
-import { VideoOverlay } from "./camera/overlay.js";
+import { ViewPane } from "./camera/pane.js";
 import { TakePlots } from "./camera/plots.js";
 import { CORNER_NAMES, calibrateFromBoard, calibrateFromCorners } from "./camera/calibration.js";
 import { showFinishedTake, trackTake } from "./camera/track.js";
 import { messageOf } from "./camera/protocol.js";
 import { videoClock } from "./camera/clock.js";
 
+/** @typedef {import("./camera/inputs.js").ViewInputs} ViewInputs */
+
 export { kindOf };
 
 /**
+ * A take filmed by several cameras gives a list for each option a camera
+ * has its own of (`video`, `camera`, `background`, `board`, `offsetS`), the
+ * i-th for the i-th view, as `embusen track` pairs its flags; one for all
+ * is one for the first.
  * @typedef {object} CameraOptions
- * @property {string} [video] the video's URL
+ * @property {string | string[]} [video] the video's URL
  * @property {string} [src] the suit recording's (BVH) URL
- * @property {string} [camera] the camera.json's URL
- * @property {string} [background] the background still's URL
- * @property {string} [board] a still of the ChArUco board on the floor (its layout BOARD.json beside it)
+ * @property {string | string[]} [camera] the camera.json's URL
+ * @property {string | string[]} [background] the background still's URL
+ * @property {string | string[]} [board] a still of the ChArUco board on the floor (its layout BOARD.json beside it)
  * @property {string} [truth] the true hips per video frame (CSV), to plot the track's error against
  * @property {string} [track] a track `embusen track` wrote (NAME.track.csv), `src` the BVH it wrote with it:
  *   the take is shown as tracked, with no tracking
  * @property {boolean} [autotrack] tracks on opening when the take's inputs are there (not with `track`)
  * @property {"fused" | "paper"} [method]
- * @property {number} [offsetS] the time offset between video and BVH (s), as `embusen track --offset-s`
+ * @property {number | number[]} [offsetS] the time offset between video and BVH (s), as `embusen track --offset-s`
  * @property {boolean} [estimateOffset] estimate the offset after tracking, as `embusen track --estimate-offset`
  * @property {import("./embusen.js").Handle} [player] a player (`mount()`'s handle) to show each track in: the
  *   suit recording opened there, the body solid at the camera track, the camera, the three floor paths
@@ -63,9 +69,8 @@ export class CameraPanel {
   inputs = new TakeInputs();
   /** @type {TrackResult | null} */ result = null;
   /** The track under way, which `cancel` ends. @type {{cancel: (e: Error) => void, terminate: () => void} | null} */ run = null;
-  /** Per video frame the body's outline where the last track puts it. @type {Uint32Array[]} */ outlines = [];
-  /** The board's corners found in its still. @type {PixelPoint[]} */ boardCorners = [];
-  /** The floor corners clicked so far, and whether clicks are taken. @type {PixelPoint[]} */ clicked = [];
+  /** Per view its video and overlay, as `inputs.views`. @type {ViewPane[]} */ panes;
+  /** The floor corners clicked so far (on the selected view), and whether clicks are taken. @type {PixelPoint[]} */ clicked = [];
   clicking = false;
   /** Resolves with each calibration from clicks (for the handle). @type {((o: object) => void) | null} */ cornersDone = null;
   destroyed = false;
@@ -75,17 +80,69 @@ export class CameraPanel {
     this.element = element;
     this.options = options;
     this.ui = buildPanel(element);
-    this.overlay = new VideoOverlay(this.ui.overlay, this.ui.layerBoxes, (t, e) => this.say(t, e));
+    this.panes = [new ViewPane(this.ui.videoBox, this.ui.overlay, this.ui.layerBoxes, () => this.inputs.selected === 0, (t, e) => this.say(t, e))];
     this.plots = new TakePlots({ top: this.ui.top, series: this.ui.plot, candidates: this.ui.candidates });
     this.ui.method.value = options.method ?? "fused";
-    this.ui.offset.value = String(options.offsetS ?? 0);
+    this.offsetsGiven = [options.offsetS ?? []].flat();
+    this.inputs.views[0].offsetText = String(this.offsetsGiven[0] ?? 0);
+    this.ui.offset.value = this.inputs.view.offsetText;
     this.ui.estimateOffset.checked = Boolean(options.estimateOffset);
   }
 
-  /** The offset field's seconds: 0 when empty, NaN when it is no number (a track refuses it, saying so). */
+  /** View `k`, added (with its pane) when the take has fewer. @param {number} k */
+  viewAt(k) {
+    this.paneOf(k);
+    for (let n = this.inputs.views.length; n <= k; n++) {
+      // One offset given is every view's, as `embusen track --offset-s`.
+      this.inputs.viewAt(n).offsetText = String(this.offsetsGiven[n] ?? this.offsetsGiven[0] ?? 0);
+    }
+    return this.inputs.views[k];
+  }
+
+  /** View `k`'s pane, made when there is none. @param {number} k */
+  paneOf(k) {
+    while (this.panes.length <= k) {
+      const n = this.panes.length;
+      const pane = ViewPane.made(this.ui.layerBoxes, () => this.inputs.selected === n, (t, e) => this.say(t, e));
+      pane.box.addEventListener("click", () => this.select(n));
+      pane.canvas.addEventListener("click", (e) => this.clickCorner(e));
+      this.ui.videos.append(pane.box);
+      this.panes.push(pane);
+    }
+    this.ui.videos.classList.toggle("several", this.panes.length > 1);
+    this.panes.forEach((p, i) => p.box.classList.toggle("selected", i === this.inputs.selected));
+    return this.panes[k];
+  }
+
+  /** Selects view `k`: the files opened next go to it, the calibration and the layers act on it. @param {number} k */
+  select(k) {
+    if (k === this.inputs.selected || this.clicking || k >= this.inputs.views.length) return;
+    this.keepOffsetField();
+    this.inputs.selected = k;
+    this.ui.offset.value = this.inputs.view.offsetText;
+    this.paneOf(k);
+    this.showInputs();
+    if (this.inputs.views.length > 1) this.say(`view ${k + 1} selected: the files opened now are its; calibration and the layers act on it`);
+  }
+
+  /** The selected view's pane. */
+  get pane() {
+    return this.paneOf(this.inputs.selected);
+  }
+
+  /** The selected view's offset: 0 when empty, NaN when it is no number (a track refuses it, saying so). */
   offsetS() {
-    const text = this.ui.offset.value.trim();
-    return text === "" ? 0 : Number(text);
+    this.keepOffsetField();
+    return this.inputs.view.offsetS();
+  }
+
+  /**
+   * The offset field is the selected view's: its text kept there, however
+   * it was set (typed, or by a page's script), before the view is left or
+   * its offset read.
+   */
+  keepOffsetField() {
+    this.inputs.view.offsetText = this.ui.offset.value;
   }
 
   /** @param {string} text @param {boolean} [isError] */
@@ -94,27 +151,32 @@ export class CameraPanel {
     this.ui.status.classList.toggle("error", isError);
   }
 
-  /** The video frame shown (frame i spans i/fps to (i+1)/fps). */
-  shownFrame() {
-    const v = this.inputs.video;
+  /** The frame shown of view `k`'s video, the selected one's by default (frame i spans i/fps to (i+1)/fps). */
+  shownFrame(k = this.inputs.selected) {
+    const v = this.inputs.views[k]?.video;
     return v ? Math.min(v.frameCount - 1, Math.floor(v.element.currentTime * v.fps + 1e-6)) : 0;
   }
 
-  overlayContent() {
-    const frame = this.shownFrame();
-    const outline = this.ui.outlineBox.checked ? this.outlines[frame] : undefined;
-    return { inputs: this.inputs, frame, boardCorners: this.boardCorners, outline, clicked: this.clicked };
+  /** What to draw over view `k`'s video (the selected one's by default). */
+  overlayContent(k = this.inputs.selected) {
+    const frame = this.shownFrame(k);
+    const pane = this.paneOf(k);
+    const outline = this.ui.outlineBox.checked ? pane.outlines[frame] : undefined;
+    const clicked = k === this.inputs.selected ? this.clicked : [];
+    return { view: this.inputs.views[k], frame, boardCorners: pane.boardCorners, outline, clicked };
   }
 
+  /** Every view's overlay at its frame shown. */
   drawOverlay() {
-    return this.destroyed ? Promise.resolve() : this.overlay.draw(this.overlayContent());
+    if (this.destroyed) return Promise.resolve();
+    return Promise.all(this.inputs.views.map((_, k) => this.paneOf(k).overlay.draw(this.overlayContent(k)))).then(() => {});
   }
 
-  /** The plots at the frame shown. */
+  /** The plots at the frame shown of the first view (the track is on its frames). */
   paintPlots() {
-    const frameCount = this.inputs.video?.frameCount ?? this.plots.path.length;
-    void this.plots.paintSeries(frameCount, this.shownFrame());
-    void this.plots.paintCandidates(this.shownFrame());
+    const frameCount = this.inputs.views[0].video?.frameCount ?? this.plots.path.length;
+    void this.plots.paintSeries(frameCount, this.shownFrame(0));
+    void this.plots.paintCandidates(this.shownFrame(0));
   }
 
   showInputs() {
@@ -135,16 +197,20 @@ export class CameraPanel {
   }
 
   /**
-   * Opens one input; a video is put in the panel, its overlay following the
-   * frame shown, and the player (`options.player`) following the video.
+   * Opens one input into `view` (the selected one by default); a video is
+   * put in its pane, its overlay following the frame shown, and the player
+   * (`options.player`) following the first view's video.
    * @param {Blob} blob @param {string} name @param {import("./camera/inputs.js").InputKind | null} kind
+   * @param {ViewInputs} [view]
    */
-  async add(blob, name, kind) {
-    await this.inputs.add(blob, name, kind);
-    if (kind !== "video" || !this.inputs.video) return;
-    const video = this.inputs.video.element;
-    this.outlines = [];
-    video.controls = true;
+  async add(blob, name, kind, view = this.inputs.view) {
+    await this.inputs.add(blob, name, kind, view);
+    const k = this.inputs.views.indexOf(view);
+    if (kind !== "video" || !view.video) return;
+    const video = view.video.element;
+    const pane = this.paneOf(k);
+    pane.outlines = [];
+    video.controls = k === 0; // the first view's drives the others
     const player = this.options.player;
     const follow = () => {
       void this.drawOverlay();
@@ -153,28 +219,46 @@ export class CameraPanel {
       if (!video.paused) video.requestVideoFrameCallback(follow);
     };
     for (const type of ["seeked", "play", "pause"]) video.addEventListener(type, follow);
-    this.ui.videoBox.replaceChildren(video, this.ui.overlay);
-    if (!player) return;
-    // Beside the 3D view, on the player's clock.
-    player.element.classList.add("embusen-take");
-    player.element.append(this.ui.videoBox);
-    // The clock shows a time even while the field holds no number.
-    player.followClock(videoClock(this.inputs.video, () => {
-      const offsetS = this.offsetS();
-      return Number.isFinite(offsetS) ? offsetS : 0;
-    }));
+    pane.show(video);
+    this.followFirstView();
   }
 
-  /** Opens files in any order, each recognised by its name; a bad one is reported, the rest kept. @param {FileList | File[]} files */
+  /**
+   * The player (`options.player`) on the first view's clock, the views'
+   * videos beside its 3D view; the other views follow the first.
+   */
+  followFirstView() {
+    const player = this.options.player;
+    const first = this.inputs.views[0];
+    if (!player || !first.video) return;
+    player.element.classList.add("embusen-take");
+    player.element.append(this.ui.videos);
+    // The clock shows a time even while a field holds no number.
+    const offsetOf = (/** @type {ViewInputs} */ v) => {
+      const offsetS = v === this.inputs.view ? this.offsetS() : v.offsetS();
+      return Number.isFinite(offsetS) ? offsetS : 0;
+    };
+    const others = () => this.inputs.views.slice(1).flatMap((v) => (v.video ? [{ video: v.video, offsetS: offsetOf(v) }] : []));
+    player.followClock(videoClock(first.video, () => offsetOf(first), others));
+  }
+
+  /**
+   * Opens files in any order, each recognised by its name, as `embusen
+   * track` pairs them: the i-th video and the i-th of each kind a camera
+   * has its own of to the i-th view from the selected one. A bad one is
+   * reported, the rest kept.
+   * @param {FileList | File[]} files
+   */
   async open(files) {
     const problems = [];
-    for (const file of Array.from(files)) {
+    for (const [file, view] of this.inputs.placesOf(Array.from(files), kindOf)) {
       try {
-        await this.add(file, file.name, kindOf(file));
+        await this.add(file, file.name, kindOf(file), view);
       } catch (e) {
         problems.push(messageOf(e));
       }
     }
+    this.inputs.views.forEach((_, k) => this.paneOf(k));
     this.result = null;
     this.showInputs();
     if (problems.length > 0) this.say(problems.join("; "), true);
@@ -184,11 +268,11 @@ export class CameraPanel {
     }
   }
 
-  /** @param {string} url @param {import("./camera/inputs.js").InputKind} kind */
-  async openUrl(url, kind) {
+  /** @param {string} url @param {import("./camera/inputs.js").InputKind} kind @param {ViewInputs} [view] */
+  async openUrl(url, kind, view) {
     const response = await fetch(url);
     if (!response.ok) throw new Error(`${url}: ${response.status} ${response.statusText}`);
-    await this.add(await response.blob(), url.split("/").pop() || url, kind);
+    await this.add(await response.blob(), url.split("/").pop() || url, kind, view);
   }
 
   /**
@@ -197,8 +281,9 @@ export class CameraPanel {
    * take's is said in the status line.
    */
   async showFinished() {
-    const { video, recording, camera, track } = this.inputs;
-    if (!video || !recording || !camera || !track || this.run) return;
+    const { recording, track, views } = this.inputs;
+    if (!recording || !track || views.some((v) => !v.video || !v.camera) || this.run) return;
+    this.keepOffsetField();
     try {
       await showFinishedTake(this);
     } catch (e) {
@@ -214,6 +299,7 @@ export class CameraPanel {
 
   /** Tracks the open take; see ./camera/track.js. */
   async track() {
+    this.keepOffsetField();
     this.plots.clear();
     this.result = null;
     void this.plots.paintCandidates(this.shownFrame());
@@ -234,7 +320,7 @@ export class CameraPanel {
     try {
       this.say("finding the board…");
       const { outcome, found, said } = await calibrateFromBoard(this.inputs, this.shownFrame());
-      this.boardCorners = found;
+      this.pane.boardCorners = found;
       this.showInputs();
       this.say(said);
       return outcome;
@@ -247,8 +333,8 @@ export class CameraPanel {
   toggleClicking() {
     this.clicking = !this.clicking && Boolean(this.inputs.video);
     this.clicked = [];
-    this.ui.overlay.style.pointerEvents = this.clicking ? "auto" : "";
-    this.ui.overlay.style.cursor = this.clicking ? "crosshair" : "";
+    this.pane.canvas.style.pointerEvents = this.clicking ? "auto" : "";
+    this.pane.canvas.style.cursor = this.clicking ? "crosshair" : "";
     this.ui.clickCorners.textContent = this.clicking ? "Stop clicking" : "Click floor corners";
     if (this.clicking) {
       this.inputs.video?.element.pause();
@@ -260,7 +346,7 @@ export class CameraPanel {
   /** A click on the video while corners are taken. @param {MouseEvent} e */
   clickCorner(e) {
     if (!this.clicking || !this.inputs.video) return;
-    const canvas = this.ui.overlay;
+    const canvas = this.pane.canvas;
     const rect = canvas.getBoundingClientRect();
     // The picture fills the canvas's box but for bars either side (it is
     // contained, as the video is); canvas coordinates to pixel centres (the
@@ -291,15 +377,15 @@ export class CameraPanel {
   destroy() {
     this.destroyed = true;
     const player = this.options.player;
-    if (player && this.inputs.video) {
+    if (player && this.inputs.views[0].video) {
       player.element.classList.remove("embusen-take");
-      this.ui.videoBox.remove();
+      this.ui.videos.remove();
       player.followClock(null);
     }
     this.cancel();
     this.run?.terminate();
     this.run = null;
-    this.overlay.destroy();
+    for (const pane of this.panes) pane.destroy();
     this.inputs.close();
     this.element.replaceChildren();
     this.element.classList.remove("embusen-camera");
@@ -328,11 +414,17 @@ function wire(panel) {
   element.addEventListener("keydown", (e) => {
     if (panel.clicking && e.key === "Escape") (panel.toggleClicking(), panel.say("the corners were not taken: the camera is as it was"));
   });
+  ui.addView.addEventListener("click", () => {
+    panel.viewAt(panel.inputs.views.length);
+    panel.select(panel.inputs.views.length - 1);
+  });
+  ui.offset.addEventListener("input", () => panel.keepOffsetField());
+  ui.videoBox.addEventListener("click", () => panel.select(0));
   ui.track.addEventListener("click", () => void panel.track().catch(() => {}));
   ui.cancel.addEventListener("click", () => panel.cancel());
   ui.calibrate.addEventListener("click", () => void panel.calibrate().catch(() => {}));
   ui.plot.addEventListener("click", (e) => {
-    const v = panel.inputs.video;
+    const v = panel.inputs.views[0].video;
     if (!v) return;
     const rect = ui.plot.getBoundingClientRect();
     const at = ((e.clientX - rect.left) * (ui.plot.width / rect.width) - 40) / (ui.plot.width - 50);
@@ -351,12 +443,22 @@ function wire(panel) {
  * @param {CameraOptions} options
  */
 async function openUrls(panel, options) {
-  /** @type {Array<[string | undefined, import("./camera/inputs.js").InputKind]>} */
-  const given = [[options.video, "video"], [options.src, "recording"], [options.camera, "camera"],
-    [options.background, "background"], [options.board, "board"], [options.truth, "truth"], [options.track, "track"],
-    // A board's layout lies beside its still, as for `embusen calibrate`.
-    [options.board?.replace(/\.png$/i, ".json"), "boardLayout"]];
-  await Promise.all(given.map(([url, kind]) => url && panel.openUrl(url, kind).catch((e) => panel.say(e.message, true))));
+  const list = (/** @type {string | string[] | undefined} */ urls) => [urls ?? []].flat();
+  /** @type {Array<[string, import("./camera/inputs.js").InputKind, ViewInputs | undefined]>} */
+  const given = [];
+  // The i-th of each kind a camera has its own of is the i-th view's.
+  for (const [urls, kind] of /** @type {const} */ ([[options.video, "video"], [options.camera, "camera"],
+    [options.background, "background"], [options.board, "board"]])) {
+    list(urls).forEach((url, k) => {
+      given.push([url, kind, panel.viewAt(k)]);
+      // A board's layout lies beside its still, as for `embusen calibrate`.
+      if (kind === "board") given.push([url.replace(/\.png$/i, ".json"), "boardLayout", panel.viewAt(k)]);
+    });
+  }
+  for (const [url, kind] of /** @type {const} */ ([[options.src, "recording"], [options.truth, "truth"], [options.track, "track"]])) {
+    if (url) given.push([url, kind, undefined]);
+  }
+  await Promise.all(given.map(([url, kind, view]) => panel.openUrl(url, kind, view).catch((e) => panel.say(e.message, true))));
 }
 
 /**
@@ -381,8 +483,12 @@ export async function mountCameraTracking(element, options = {}) {
     nextCornersCalibration: () => new Promise((ok) => (panel.cornersDone = ok)),
     /** The paper's candidates of video frame `i` of the last track (none for `fused`). */
     candidatesAt: (/** @type {number} */ i) => panel.plots.candidatesAt(i),
-    /** The body's outline over video frame `i` where the last track puts it (x, y pixel after pixel). */
-    outlineAt: (/** @type {number} */ i) => Array.from(panel.outlines[i] ?? []),
+    /** The body's outline over video frame `i` of view `view` (the first by default) where the last track puts it (x, y pixel after pixel). */
+    outlineAt: (/** @type {number} */ i, view = 0) => Array.from(panel.panes[view]?.outlines[i] ?? []),
+    /** Selects view `k` (0 the first): the files opened next go to it, calibration and the layers act on it. */
+    selectView: (/** @type {number} */ k) => panel.select(k),
+    /** How many views (cameras) the take has. */
+    get views() { return panel.inputs.views.length; },
     cancel: () => panel.cancel(),
     get result() { return panel.result; },
     /**
@@ -393,9 +499,9 @@ export async function mountCameraTracking(element, options = {}) {
     async showLayers(names) {
       for (const b of panel.ui.layerBoxes) b.checked = names.includes(/** @type {string} */ (b.dataset.layer));
       await panel.drawOverlay();
-      while (!panel.overlay.layersReady(panel.shownFrame())) {
-        if (panel.overlay.reading) await new Promise((ok) => setTimeout(ok, 20));
-        else await panel.overlay.readLayers(panel.overlayContent());
+      while (!panel.pane.overlay.layersReady(panel.shownFrame())) {
+        if (panel.pane.overlay.reading) await new Promise((ok) => setTimeout(ok, 20));
+        else await panel.pane.overlay.readLayers(panel.overlayContent());
       }
     },
     destroy: () => panel.destroy(),

@@ -40,13 +40,13 @@ export { loadWasm } from "./player/wasm.js";
  * @property {boolean} [autoplay]
  * @property {"full" | "minimal"} [chrome] "full": file picker, settings, export, info; "minimal": for embeds
  * @property {"document"} [keyboard] "document": keys page-wide; else when the player has focus
- * @property {string} [video] a video of the recording's take (`src` is its suit BVH): a camera-tracking
+ * @property {string | string[]} [video] a video of the recording's take (`src` is its suit BVH): a camera-tracking
  *   panel (camera.js) is mounted under the player, its tracks shown in this player's 3D view
- * @property {string} [camera] with `video`: the camera.json's URL
- * @property {string} [background] with `video`: the background still's URL
- * @property {string} [board] with `video`: a still of the ChArUco board (its BOARD.json beside it)
+ * @property {string | string[]} [camera] with `video`: the camera.json's URL
+ * @property {string | string[]} [background] with `video`: the background still's URL
+ * @property {string | string[]} [board] with `video`: a still of the ChArUco board (its BOARD.json beside it)
  * @property {string} [truth] with `video`: the true hips per video frame (CSV)
- * @property {number} [offsetS] with `video`: added to a video frame's time to read the BVH (s), as `--offset-s`
+ * @property {number | number[]} [offsetS] with `video`: added to a video frame's time to read the BVH (s), as `--offset-s`
  * @property {string} [track] with `video`: its track CSV (`src` the BVH tracked with it), shown with no tracking
  * @property {boolean} [autotrack] with `video`: track on opening
  * @property {"fused" | "paper"} [method] with `video`: the camera tracker
@@ -168,6 +168,7 @@ export async function mount(element, options = {}) {
   };
   /** @type {HTMLElement & {embusen?: Handle}} */ (element).embusen = handle;
   await ready;
-  if (options.video && !destroyed) await camera.open(element, options, handle, () => destroyed);
+  // A video, or several (a take filmed by several cameras; none given is [] from a page's address).
+  if ([options.video ?? []].flat().length > 0 && !destroyed) await camera.open(element, options, handle, () => destroyed);
   return handle;
 }

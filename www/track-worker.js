@@ -8,6 +8,10 @@
 // `FromTracker`); any other is an error. After an error it takes nothing
 // more: the page starts a new one.
 //
+// A finished take stays open until the worker is let go: a take filmed by
+// several cameras is weighed in the first view's worker (`weigh`), each
+// other view's track sent there from its own.
+//
 // For the fused tracker it starts a second worker (./path-scorer-worker.js)
 // with the same take: half the tracker's work (the path search's energies,
 // CameraJob.defer_path_energies) is done there, from the same frame, while
@@ -146,6 +150,22 @@ class Tracking {
       type: "done", files, frames, msPerFrame: per(this.busyMs), decodeMsPerFrame: per(this.decodeMs),
       scoreMsPerFrame: per(this.scorer?.ms ?? 0), outlines, candidates: job.paper_candidates(),
       trackedHipsCm: job.tracked_hips_cm(), series: job.take_series(), errors, truthProblem, offset, offsetProblem,
+      view: job.finished_view(),
+    }, outlines.map((o) => o.buffer));
+  }
+
+  /**
+   * The finished track (the first view's) weighed with the other views',
+   * written as `embusen track` writes it for all the videos, and sent.
+   * @param {import("./camera/protocol.js").FinishedViewFrames[]} views
+   */
+  weigh(views) {
+    const files = this.job.weigh(views);
+    const outlines = this.job.outlines_px();
+    const { errors, truthProblem } = this.#errors();
+    post({
+      type: "weighed", files, outlines, trackedHipsCm: this.job.tracked_hips_cm(), series: this.job.take_series(),
+      errors, truthProblem,
     }, outlines.map((o) => o.buffer));
   }
 
@@ -196,6 +216,8 @@ async function open(m) {
   // Where it decodes, the video's rate and frame count are the demuxer's.
   const video = decoder ? { ...m.take.video, fps: decoder.facts.fps, frame_count: decoder.facts.frame_count } : m.take.video;
   const take = { ...m.take, video };
+  tracking?.free(); // a take finished before
+  tracking = null;
   const job = new CameraJob(take);
   tracking = new Tracking(m, take, job, fail, () => failed);
   post({ type: "opened", decodes: Boolean(decoder), why: why ?? null, video, warnings: job.warnings(), workers: tracking.scorer ? 2 : 1 });
@@ -206,8 +228,6 @@ async function open(m) {
     await t.track(luma, stride, fullRange);
   });
   await t.finish();
-  t.free();
-  tracking = null;
 }
 
 /** @param {ToTracker} m */
@@ -222,10 +242,12 @@ async function handle(m) {
       return tracking.track(new Uint8Array(m.luma), m.stride, m.fullRange);
     case "finish":
       if (!tracking) throw new Error("nothing to finish: the take was not opened");
-      await tracking.finish();
-      tracking.free();
-      tracking = null;
-      return;
+      return tracking.finish();
+    case "weigh":
+      // The finished take stays open for this: a first view's track
+      // weighed with the other views'.
+      if (!tracking) throw new Error("nothing to weigh: the take was not opened");
+      return tracking.weigh(m.views);
     default:
       throw unexpected("the tracker's worker", m);
   }

@@ -798,3 +798,101 @@ test("a camera calibrated from board.png in the page stands where the true one d
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test("a take filmed by two cameras: tracked in the page as embusen track tracks both, both videos on one clock", async (t) => {
+  if (skipWithoutData(t)) return;
+  const first = (s) => join(DATA, "optical", `walk${s}`);
+  const second = (s) => join(DATA, "optical", "second_view", `walk${s}`);
+  const out = join(scratch, "two", "walk.tracked.bvh");
+  mkdirSync(join(scratch, "two"), { recursive: true });
+  execFileSync(CLI, ["track", first(".mp4"), second(".mp4"), "--bvh", first(".suit.bvh"),
+    "--camera", first(".camera.json"), "--camera", second(".camera.json"),
+    "--background", first(".background.png"), "--background", second(".background.png"), "-o", out], { stdio: "pipe" });
+  const views = "video=/data/optical/walk.mp4&video=/data/optical/second_view/walk.mp4" +
+    "&camera=/data/optical/walk.camera.json&camera=/data/optical/second_view/walk.camera.json";
+  const { page, errors } = await openTake(`autoplay=0&${views}&src=/data/optical/walk.suit.bvh` +
+    "&background=/data/optical/walk.background.png&background=/data/optical/second_view/walk.background.png" +
+    "&truth=/data/optical/walk.truth.csv");
+  const handle = () => "document.querySelector('#camera-panel').embusenCamera";
+  assert.equal(await page.evaluate(`${handle()}.views`), 2);
+  const inputs = await page.textContent("#camera-panel .camera-inputs");
+  assert.match(inputs, /view 2/, inputs);
+  const result = await page.evaluate(() => document.querySelector("#camera-panel").embusenCamera.track());
+  const status = await page.textContent("#camera-panel .camera-status");
+  console.log(`walk by two cameras in the page: ${status}`);
+  assert.equal(result.views, 2, status);
+  assert.match(status, /195 frames tracked by 2 cameras/);
+  assert.ok(result.recording === readFileSync(out, "utf8"), "the page's corrected BVH is not the CLI's with two views");
+  assert.ok(result.csv === readFileSync(out.replace(/\.bvh$/, ".track.csv"), "utf8"), "the page's track CSV is not the CLI's");
+  assert.ok(result.truthErrors && result.truthErrors.meanCm < 3.5, JSON.stringify(result.truthErrors));
+  // Each view's outline surrounds the true hips as its own camera sees them.
+  const truth = readFileSync(first(".truth.csv"), "utf8").trim().split("\n").slice(1)
+    .map((row) => row.split(",").slice(1, 4).map(Number));
+  for (const [view, camera] of [first(".camera.json"), second(".camera.json")].entries()) {
+    const cameraJson = JSON.parse(readFileSync(camera, "utf8"));
+    for (const i of [20, 100, 180]) {
+      const outline = await page.evaluate(([i, view]) => document.querySelector("#camera-panel").embusenCamera.outlineAt(i, view), [i, view]);
+      const [xs, ys] = [outline.filter((_, k) => k % 2 === 0), outline.filter((_, k) => k % 2 === 1)];
+      const [x, y] = project(cameraJson, truth[i]);
+      assert.ok(outline.length > 200 && Math.min(...xs) < x && x < Math.max(...xs) && Math.min(...ys) < y && y < Math.max(...ys),
+        `view ${view + 1}, frame ${i}: the true hips at ${x.toFixed(0)}, ${y.toFixed(0)} px, the outline over ` +
+          `${Math.min(...xs)}–${Math.max(...xs)}, ${Math.min(...ys)}–${Math.max(...ys)}`);
+    }
+  }
+  // One clock: the player moved to frame 120 moves both videos there.
+  const shown = async () => {
+    await page.waitForTimeout(600);
+    return page.evaluate(() => ({
+      player: document.querySelector("#app").embusen.player.frame(),
+      videos: Array.from(document.querySelectorAll(".camera-video video"), (v) => Math.floor(v.currentTime * 30 + 1e-6)),
+    }));
+  };
+  await page.evaluate(() => {
+    const slider = document.querySelector("#app .slider");
+    slider.value = "120";
+    slider.dispatchEvent(new Event("input", { bubbles: true }));
+  });
+  const at = await shown();
+  assert.deepEqual(at, { player: 120, videos: [120, 120] }, JSON.stringify(at));
+  await page.evaluate(() => scrollTo(0, 0));
+  mkdirSync(SCREENSHOTS, { recursive: true });
+  await page.screenshot({ path: join(SCREENSHOTS, "two-views-1280x800.png") });
+  // Both videos whole in the page, beside the 3D view at 1280×800 and above it at 390×844.
+  for (const [width, height] of [[1280, 800], [390, 844]]) {
+    await page.setViewportSize({ width, height });
+    await page.waitForTimeout(300);
+    const boxes = await page.evaluate(() => Array.from(document.querySelectorAll("#app .camera-video video"), (v) => {
+      const r = v.getBoundingClientRect();
+      return { left: r.left, right: r.right, width: r.width, height: r.height };
+    }));
+    assert.equal(boxes.length, 2);
+    for (const b of boxes) assert.ok(b.left >= 0 && b.right <= width && b.width > 150 && b.height > 100, `at ${width}×${height}: ${JSON.stringify(b)}`);
+    await page.screenshot({ path: join(SCREENSHOTS, `two-views-${width}x${height}.png`), fullPage: width < 800 });
+  }
+  assert.deepEqual(errors, []);
+  await page.close();
+  // The finished take opens with both videos, each with its outline.
+  pages["/two/walk.tracked.bvh"] = { type: "text/plain", body: readFileSync(out) };
+  pages["/two/walk.tracked.track.csv"] = { type: "text/csv", body: readFileSync(out.replace(/\.bvh$/, ".track.csv")) };
+  const finished = await openTake(`autoplay=0&${views}&src=/two/walk.tracked.bvh&track=/two/walk.tracked.track.csv`);
+  await finished.page.waitForFunction(() => /tracked by 2 cameras before/.test(document.querySelector("#camera-panel .camera-status")?.textContent ?? ""),
+    null, { timeout: 60000 });
+  for (const view of [0, 1]) {
+    const outline = await finished.page.evaluate((view) => document.querySelector("#camera-panel").embusenCamera.outlineAt(100, view), view);
+    assert.ok(outline.length > 200, `the finished take's view ${view + 1}: an outline of ${outline.length / 2} px over frame 100`);
+  }
+  assert.deepEqual(finished.errors, []);
+  await finished.page.close();
+  // A second view given the first's camera: its world is not the first's,
+  // said with the view's name; the take stays open.
+  const wrong = await openTake("autoplay=0&video=/data/optical/walk.mp4&video=/data/optical/second_view/walk.mp4" +
+    "&camera=/data/optical/walk.camera.json&camera=/data/optical/walk.camera.json&src=/data/optical/walk.suit.bvh" +
+    "&background=/data/optical/walk.background.png&background=/data/optical/second_view/walk.background.png");
+  await wrong.page.evaluate(() => document.querySelector("#camera-panel").embusenCamera.track().catch(() => null));
+  const said = await wrong.page.textContent("#camera-panel .camera-status");
+  console.log(`view 2 with view 1's camera: ${said}`);
+  assert.match(said, /view 2/);
+  assert.equal(await wrong.page.evaluate(`${handle()}.views`), 2);
+  assert.match(await wrong.page.textContent("#camera-panel .camera-inputs"), /walk\.suit\.bvh/);
+  await wrong.page.close();
+});

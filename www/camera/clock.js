@@ -5,13 +5,18 @@
 // `embusen track`'s: video frame `i` is at `i / fps` s, and the recording is
 // read `offset` s later (the offset field, `--offset-s`).
 
+/** @typedef {import("./inputs.js").TakeVideo} TakeVideo */
+
 /**
- * The take's video as a clock for the player (`Handle.followClock`).
- * @param {import("./inputs.js").TakeVideo} video
+ * The take's video as a clock for the player (`Handle.followClock`); the
+ * other views' videos (`followers`) are kept at the same instant of the
+ * recording.
+ * @param {TakeVideo} video the first view's
  * @param {() => number} offsetS the recording's time at the video's 0 s
+ * @param {() => Array<{video: TakeVideo, offsetS: number}>} [followers] the other views' videos and offsets
  * @returns {import("../embusen.js").Clock}
  */
-export function videoClock(video, offsetS) {
+export function videoClock(video, offsetS, followers = () => []) {
   const { element, fps, frameCount } = video;
   /** The video frame nearest, or at, `timeS` of the video. @param {number} timeS @param {(x: number) => number} round */
   const frameAt = (timeS, round) => Math.min(frameCount - 1, Math.max(0, round(timeS * fps + 1e-6)));
@@ -40,11 +45,31 @@ export function videoClock(video, offsetS) {
         player.set_frame(Math.min(last, Math.max(0, Math.round(timeS() * player.fps()))));
       }
       agreed = { timeS: timeS(), frame: player.frame() };
+      for (const f of followers()) follow(f.video, timeS() - f.offsetS, !element.paused && !element.ended);
     },
     playing: () => !element.paused && !element.ended,
     setPlaying: (on) => {
-      if (on) element.play().catch(() => {}); // refused (no user gesture): it stays paused, and says so
-      else element.pause();
+      for (const v of [element, ...followers().map((f) => f.video.element)]) {
+        if (on) v.play().catch(() => {}); // refused (no user gesture): it stays paused, and says so
+        else v.pause();
+      }
     },
   };
+}
+
+/**
+ * Keeps another view's video at `timeS` of its own: seeked to the frame
+ * there while paused; while playing, it plays along and is seeked only when
+ * it drifts more than two frames (a seek each frame would stall it).
+ * @param {TakeVideo} video
+ * @param {number} timeS
+ * @param {boolean} playing whether the first view's video plays
+ */
+function follow(video, timeS, playing) {
+  const { element, fps, frameCount } = video;
+  const frame = Math.min(frameCount - 1, Math.max(0, Math.floor(timeS * fps + 1e-6)));
+  const shown = Math.min(frameCount - 1, Math.floor(element.currentTime * fps + 1e-6));
+  if (playing && element.paused && timeS >= 0 && timeS * fps < frameCount) element.play().catch(() => {});
+  if (!playing && !element.paused) element.pause();
+  if (Math.abs(frame - shown) > (playing ? 2 : 0)) element.currentTime = (frame + 0.5) / fps;
 }

@@ -30,33 +30,84 @@ export function kindOf(file) {
 /** A file's bytes as text, as the camera module reads a camera.json. @param {FileBytes} f */
 export const textOf = (f) => new TextDecoder().decode(f.bytes);
 
-/** The take's inputs, as opened so far. */
-export class TakeInputs {
+/** The kinds of input each camera of a take has its own of. */
+const PER_VIEW = /** @type {const} */ (["video", "camera", "background", "board", "boardLayout"]);
+
+/** What one camera of the take gives: its video, its camera, its empty room, its board. */
+export class ViewInputs {
   /** @type {TakeVideo | undefined} */ video;
-  /** @type {FileBytes | undefined} */ recording;
   /** The camera (`calibratedHere`: from a board or clicks here, so no lens to calibrate a board with). @type {(FileBytes & {calibratedHere?: boolean}) | undefined} */
   camera;
   /** (`fromVideo`: the median of the video's frames.) @type {(FileBytes & {fromVideo?: boolean}) | undefined} */
   background;
   /** @type {FileBytes | undefined} */ board;
   /** @type {FileBytes | undefined} */ boardLayout;
+  /** The offset field's text for this view: added to a video frame's time to read the BVH (s). */
+  offsetText = "0";
+
+  /** The offset's seconds: 0 when empty, NaN when it is no number (a track refuses it, saying so). */
+  offsetS() {
+    const text = this.offsetText.trim();
+    return text === "" ? 0 : Number(text);
+  }
+
+  /** Releases the video. */
+  close() {
+    if (this.video) closeVideo(this.video.element);
+  }
+}
+
+/**
+ * The take's inputs, as opened so far: the suit's recording, a truth and a
+ * track for the whole take, and per camera (view) its own files, as
+ * `embusen track` takes several videos. One view is selected: what the
+ * calibration and the overlay's layers act on, and where files go.
+ */
+export class TakeInputs {
+  /** @type {FileBytes | undefined} */ recording;
   /** @type {FileBytes | undefined} */ truth;
   /** A track `embusen track` (or the page) wrote for this take: shown as it is. @type {FileBytes | undefined} */ track;
+  /** The take's cameras, the first the one whose frames the track is on. @type {ViewInputs[]} */
+  views = [new ViewInputs()];
+  /** The index of the selected view. */
+  selected = 0;
+
+  /** The selected view. */
+  get view() {
+    return this.views[this.selected];
+  }
+
+  get video() { return this.view.video; }
+  get camera() { return this.view.camera; }
+  set camera(c) { this.view.camera = c; }
+  get background() { return this.view.background; }
+  set background(b) { this.view.background = b; }
+  get board() { return this.view.board; }
+  get boardLayout() { return this.view.boardLayout; }
+
+  /** View `k`, added (after empty ones, as needed) when the take has fewer. @param {number} k */
+  viewAt(k) {
+    while (this.views.length <= k) this.views.push(new ViewInputs());
+    return this.views[k];
+  }
 
   /**
-   * Opens one input; the others stay. A video replaces the one before (closed).
+   * Opens one input into `view` (a take-wide one, the recording, a truth or
+   * a track, into the take); the others stay. A video replaces the view's
+   * one before (closed).
    * @param {Blob} blob
    * @param {string} name
    * @param {InputKind | null} kind
+   * @param {ViewInputs} [view] the selected one when not given
    */
-  async add(blob, name, kind) {
+  async add(blob, name, kind, view = this.view) {
     if (kind === "video") {
       const video = await openVideo(blob, name);
       try {
         const fps = (await loadCameraModule()).nominal_fps(await measureFps(video));
         const frameCount = Math.round(video.duration * fps);
-        if (this.video) closeVideo(this.video.element);
-        this.video = { file: blob, name, element: video, fps, frameCount };
+        view.close();
+        view.video = { file: blob, name, element: video, fps, frameCount };
       } catch (e) {
         closeVideo(video);
         throw e;
@@ -70,41 +121,82 @@ export class TakeInputs {
       } catch (e) {
         throw new Error(`${name}: not JSON (${e instanceof Error ? e.message : e})`);
       }
-      if (parsed && typeof parsed === "object" && "squares_x" in parsed) this.boardLayout = { name, bytes };
-      else this.camera = { name, bytes };
-    } else if (kind !== null) {
+      if (parsed && typeof parsed === "object" && "squares_x" in parsed) view.boardLayout = { name, bytes };
+      else view.camera = { name, bytes };
+    } else if (kind === "recording" || kind === "truth" || kind === "track") {
       this[kind] = { name, bytes: await blob.arrayBuffer() };
+    } else if (kind !== null) {
+      view[kind] = { name, bytes: await blob.arrayBuffer() };
     } else {
       throw new Error(`${name}: not a video, a BVH, a camera.json, a board's layout or a PNG still`);
     }
   }
 
-  /** What a track still needs. */
+  /**
+   * Where each of `files` goes, as `embusen track` pairs its flags with its
+   * videos: the i-th video, and the i-th of each kind a camera has its own
+   * of, to the i-th view from the selected one (views added as needed);
+   * the recording, a truth and a track to the take.
+   * @template {{name: string}} F
+   * @param {F[]} files
+   * @param {(f: F) => InputKind | null} kindOfFile
+   * @returns {Array<[F, ViewInputs]>}
+   */
+  placesOf(files, kindOfFile) {
+    /** @type {Map<string, number>} */
+    const seen = new Map();
+    return files.map((f) => {
+      const kind = kindOfFile(f);
+      // A camera and a board's layout are both JSON: counted together.
+      const counted = kind === "json" ? "json" : kind;
+      if (counted === null || !(/** @type {readonly string[]} */ (PER_VIEW).includes(counted) || counted === "json")) {
+        return [f, this.view];
+      }
+      const k = seen.get(counted) ?? 0;
+      seen.set(counted, k + 1);
+      return [f, this.viewAt(this.selected + k)];
+    });
+  }
+
+  /** What a track still needs, each view's named when there are several. */
   missing() {
-    return /** @type {const} */ (["video", "recording", "camera"]).filter((k) => !this[k]);
+    if (this.views.length === 1) {
+      const view = this.views[0];
+      return [view.video ? [] : ["video"], this.recording ? [] : ["recording"], view.camera ? [] : ["camera"]].flat();
+    }
+    const views = this.views.flatMap((v, k) => [v.video ? [] : [`view ${k + 1}'s video`], v.camera ? [] : [`view ${k + 1}'s camera`]].flat());
+    return [...(this.recording ? [] : ["recording"]), ...views];
   }
 
   /** The list of inputs, as HTML: each there or missing. */
   listHtml() {
     const line = (/** @type {string} */ what, /** @type {string | undefined} */ have) =>
       `<li class="${have ? "have" : "missing"}">${what}: ${have ?? "missing"}</li>`;
-    const v = this.video;
+    const several = this.views.length > 1;
+    const viewLines = (/** @type {ViewInputs} */ view, /** @type {number} */ k) => {
+      const v = view.video;
+      const of = several ? `view ${k + 1}'s ` : "";
+      return [
+        line(`${of}video`, v && `${v.name}, ${v.element.videoWidth}×${v.element.videoHeight}, ${v.fps.toFixed(3)} fps, ${v.frameCount} frames`),
+        line(`${of}camera (camera.json)`, view.camera?.name),
+        line(`${of}background still (PNG)`, view.background?.name ?? (v ? "none: the median of the video's frames will stand in" : undefined)),
+        ...(view.board || view.boardLayout
+          ? [line(`${of}board still`, view.board?.name), line(`${of}board layout (BOARD.json)`, view.boardLayout?.name)]
+          : []),
+      ];
+    };
     return [
-      line("video", v && `${v.name}, ${v.element.videoWidth}×${v.element.videoHeight}, ${v.fps.toFixed(3)} fps, ${v.frameCount} frames`),
+      ...viewLines(this.views[0], 0),
       line("suit recording (BVH)", this.recording?.name),
-      line("camera (camera.json)", this.camera?.name),
-      line("background still (PNG)", this.background?.name ?? (v ? "none: the median of the video's frames will stand in" : undefined)),
       ...(this.truth ? [line("true hips (CSV)", this.truth.name)] : []),
       ...(this.track ? [line("track (CSV)", this.track.name)] : []),
-      ...(this.board || this.boardLayout
-        ? [line("board still", this.board?.name), line("board layout (BOARD.json)", this.boardLayout?.name)]
-        : []),
+      ...this.views.slice(1).flatMap((v, k) => viewLines(v, k + 1)),
     ].join("");
   }
 
-  /** Releases the video. */
+  /** Releases the videos. */
   close() {
-    if (this.video) closeVideo(this.video.element);
+    for (const v of this.views) v.close();
   }
 }
 

@@ -9,7 +9,7 @@ import { loadCameraModule } from "./modules.js";
 import { textOf } from "./inputs.js";
 import { frameAt } from "../video-frames.js";
 
-/** @typedef {import("./inputs.js").TakeInputs} TakeInputs */
+/** @typedef {import("./inputs.js").ViewInputs} ViewInputs */
 /** @typedef {import("./inputs.js").FileBytes} FileBytes */
 /** @typedef {import("../pkg-camera/embusen.js").PixelPoint} PixelPoint */
 /** @typedef {import("../pkg-camera/embusen.js").FrameLayer} FrameLayer */
@@ -17,7 +17,7 @@ import { frameAt } from "../video-frames.js";
 /**
  * What to draw over the frame shown.
  * @typedef {object} OverlayContent
- * @property {TakeInputs} inputs
+ * @property {ViewInputs} view the view whose video it is over
  * @property {number} frame the video frame shown
  * @property {PixelPoint[]} boardCorners the board's corners found
  * @property {Uint32Array | undefined} outline the body's outline in this frame (x, y pixel after pixel)
@@ -39,16 +39,19 @@ export class VideoOverlay {
   /**
    * @param {HTMLCanvasElement} canvas
    * @param {HTMLInputElement[]} layerBoxes the layers' check boxes (`data-layer`)
+   * @param {() => boolean} selected whether the boxes are this overlay's (its view is the selected one)
    * @param {(text: string, isError?: boolean) => void} say
    */
-  constructor(canvas, layerBoxes, say) {
+  constructor(canvas, layerBoxes, selected, say) {
     this.canvas = canvas;
     this.layerBoxes = layerBoxes;
+    this.selected = selected;
     this.say = say;
   }
 
   /** The layers asked for. @returns {FrameLayer[]} */
   wanted() {
+    if (!this.selected()) return [];
     return this.layerBoxes.filter((b) => b.checked).map((b) => /** @type {FrameLayer} */ (b.dataset.layer));
   }
 
@@ -64,7 +67,7 @@ export class VideoOverlay {
 
   /** Draws `content` (asynchronously the first time a camera is seen). @param {OverlayContent} content */
   async draw(content) {
-    const video = content.inputs.video?.element;
+    const video = content.view.video?.element;
     const ctx = this.#destroyed ? null : this.canvas.getContext("2d");
     if (!ctx) return;
     if (!video) {
@@ -76,7 +79,7 @@ export class VideoOverlay {
     }
     const m = await loadCameraModule();
     const colours = m.overlay_colours();
-    const camera = content.inputs.camera;
+    const camera = content.view.camera;
     if (!camera) {
       ctx.clearRect(0, 0, this.canvas.width, this.canvas.height);
       drawClicked(ctx, content.clicked, colours.clicked_css);
@@ -149,7 +152,7 @@ export class VideoOverlay {
    * @param {OverlayContent} content
    */
   async readLayers(content) {
-    const { video, background } = content.inputs;
+    const { video, background } = content.view;
     if (!video || !background || this.#layers?.reading) return;
     const frame = content.frame;
     try {

@@ -9,6 +9,7 @@ const PANEL = `
       <input data-setting="offset" type="number" step="0.01" value="0" style="width: 5em"> s</label>
     <label title="after tracking, find the offset at which the suit's pose fits the video best (within 0.25 s; embusen track --estimate-offset)">
       <input type="checkbox" data-setting="estimate-offset"> estimate it</label>
+    <button data-action="add-view" title="another camera of the same take: the files opened next are its, the i-th video and the i-th camera.json (…) to the i-th view, as embusen track pairs them">+ camera</button>
     <button data-action="track">Track</button>
     <button data-action="cancel" disabled>Cancel</button>
     <progress value="0" max="1"></progress>
@@ -31,7 +32,7 @@ const PANEL = `
   </fieldset>
   <ul class="camera-inputs"></ul>
   <p class="camera-status" role="status"></p>
-  <div class="camera-views"><div class="camera-video"><canvas class="camera-overlay"></canvas></div><canvas class="camera-top" width="320" height="240"></canvas>
+  <div class="camera-views"><div class="camera-videos"><div class="camera-video"><canvas class="camera-overlay"></canvas></div></div><canvas class="camera-top" width="320" height="240"></canvas>
     <canvas class="camera-candidates" width="240" height="240" hidden
       title="the paper's 25 positions tried in the frame shown, by energy (green low, red high); ringed: the one it chose"></canvas></div>
   <canvas class="camera-plot" width="960" height="180" title="click to see that frame"></canvas>`;
@@ -61,8 +62,11 @@ export function buildPanel(element) {
     status: get(".camera-status", HTMLElement),
     inputList: get(".camera-inputs", HTMLElement),
     videoBox: get(".camera-video", HTMLElement),
+    /** The views' video boxes, moved beside the player's 3D view with a take. */
+    videos: get(".camera-videos", HTMLElement),
     progress: get("progress", HTMLProgressElement),
     fileInput: get('input[type="file"]', HTMLInputElement),
+    addView: button("add-view"),
     track: button("track"),
     cancel: button("cancel"),
     exportRecording: button("export-recording"),

@@ -15,14 +15,17 @@
 /** @typedef {import("../pkg-camera/embusen.js").TruthErrors} TruthErrors */
 /** @typedef {import("../pkg-camera/embusen.js").OffsetFound} OffsetFound */
 /** @typedef {import("../pkg-camera/embusen.js").TakeSeries} TakeSeries */
+/** @typedef {import("../pkg-camera/embusen.js").FinishedViewFrames} FinishedViewFrames */
 
 /**
  * The page to the tracker's worker: open a take (with the video's bytes the
  * worker decodes the frames itself where it can), then, only when it does
- * not decode, each frame's luma plane and the finish.
+ * not decode, each frame's luma plane and the finish. After its `done`, a
+ * first view's worker weighs the other views' finished tracks in (`weigh`).
  * @typedef {{type: "open", take: TakeOptions, videoBytes: ArrayBuffer, estimateOffset: boolean, truth: NamedFile | null}
  *   | {type: "frame", luma: ArrayBuffer, stride: number, fullRange: boolean}
- *   | {type: "finish"}} ToTracker
+ *   | {type: "finish"}
+ *   | {type: "weigh", views: FinishedViewFrames[]}} ToTracker
  */
 
 /**
@@ -53,11 +56,18 @@
  * @property {string | null} truthProblem why there are none, when a truth was given
  * @property {OffsetFound | null} offset the time offset estimated, when asked for and found
  * @property {string | null} offsetProblem why not, when asked for
+ * @property {FinishedViewFrames} view the track as another view's worker weighs it in
+ */
+
+/**
+ * The first view's track weighed with the others': what `embusen track`
+ * writes for all the videos, and the weighed track as `Done` has it.
+ * @typedef {{type: "weighed"} & Pick<Done, "files" | "outlines" | "trackedHipsCm" | "series" | "errors" | "truthProblem">} Weighed
  */
 
 /**
  * The tracker's worker to the page.
- * @typedef {Opened | {type: "progress", progress: FrameProgress} | Done | {type: "error", message: string}} FromTracker
+ * @typedef {Opened | {type: "progress", progress: FrameProgress} | Done | Weighed | {type: "error", message: string}} FromTracker
  */
 
 /**

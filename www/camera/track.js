@@ -14,6 +14,7 @@ import { TrackerRun } from "./tracker-client.js";
 /** @typedef {import("./protocol.js").Done} Done */
 /** @typedef {import("./protocol.js").Opened} Opened */
 /** @typedef {import("./inputs.js").FileBytes} FileBytes */
+/** @typedef {import("./inputs.js").TakeVideo} TakeVideo */
 
 /**
  * @typedef {object} TrackResult
@@ -29,59 +30,80 @@ import { TrackerRun } from "./tracker-client.js";
  * @property {boolean} decodedInWorker whether the worker decoded the frames itself (WebCodecs)
  * @property {string | null} whyNotDecoded why not, when it did not
  * @property {{meanCm: number, p90Cm: number, maxCm: number} | null} truthErrors against the truth, when given
- * @property {number} [offsetEstimateS] the time offset estimated after the track, when asked for
+ * @property {number} [offsetEstimateS] the time offset estimated after the track, when asked for (the first view's)
+ * @property {number} [views] the cameras the take was tracked from
  */
 
 /**
- * Tracks the panel's take; resolves with the result, rejects with the
- * message the page shows (the inputs are kept either way).
+ * Tracks the panel's take, each of its views (cameras) in its own worker,
+ * then, with several, the first view's track weighed with the others' in
+ * the first's worker; resolves with the result, rejects with the message
+ * the page shows (the inputs are kept either way).
  * @param {CameraPanel} panel
  * @returns {Promise<TrackResult>}
  */
 export async function trackTake(panel) {
   const { inputs, ui, plots } = panel;
-  const { video, recording, camera } = inputs;
-  if (!video || !recording || !camera) throw new Error("open a video, its BVH and a camera.json first");
-  const background = inputs.background ?? (inputs.background = await medianStill(video, (t) => panel.say(t)));
+  const { recording, views } = inputs;
+  const several = views.length > 1;
+  if (!recording || views.some((v) => !v.video || !v.camera)) {
+    throw new Error(several ? "open the BVH and each view's video and camera.json first" : "open a video, its BVH and a camera.json first");
+  }
+  const viewSaid = (/** @type {number} */ k) => (several ? `view ${k + 1} (${views[k].video?.name}): ` : "");
+  for (const [k, view] of views.entries()) {
+    const video = /** @type {TakeVideo} */ (view.video);
+    view.background ??= await medianStill(video, (t) => panel.say(viewSaid(k) + t));
+  }
   ui.exportRecording.disabled = ui.exportTrack.disabled = true;
   ui.track.disabled = true;
   ui.cancel.disabled = false;
-  let frameCount = video.frameCount;
-  const run = new TrackerRun((opened) => {
-    frameCount = opened.video.frame_count;
-    if (opened.warnings.length > 0) panel.say(opened.warnings.join("; "));
-  }, (progress) => {
-    plots.path.push(progress);
+  const progress = views.map((v) => ({ done: 0, of: v.video?.frameCount ?? 1 }));
+  const runs = views.map((_, k) => new TrackerRun((opened) => {
+    progress[k].of = opened.video.frame_count;
+    if (opened.warnings.length > 0) panel.say(opened.warnings.map((w) => viewSaid(k) + w).join("; "));
+  }, (p) => {
+    progress[k].done = p.frame + 1;
+    if (k === 0) plots.path.push(p);
     // The page is redrawn a few times a second, not every frame: each
-    // repaint is composited in software, taken from the worker's core.
-    if (progress.frame % 10 === 0) {
-      ui.progress.value = (progress.frame + 1) / frameCount;
-      void plots.paintTop();
-      panel.paintPlots();
-      panel.say(`tracking: frame ${progress.frame + 1} of ${frameCount}`);
-    }
-  });
-  panel.run = run;
+    // repaint is composited in software, taken from the workers' cores.
+    if (p.frame % 10 !== 0) return;
+    const [done, of] = progress.reduce(([d, o], q) => [d + q.done, o + q.of], [0, 0]);
+    ui.progress.value = done / of;
+    void plots.paintTop();
+    panel.paintPlots();
+    panel.say(`tracking: frame ${done} of ${of}` + (several ? ` (${views.length} views)` : ""));
+  }));
+  panel.run = { cancel: (e) => runs.forEach((r) => r.cancel(e)), terminate: () => runs.forEach((r) => r.terminate()) };
   const started = performance.now();
   try {
-    const offsetS = panel.offsetS();
     const method = /** @type {import("./protocol.js").TakeOptions["method"]} */ (ui.method.value);
-    const take = { recording: copyOf(recording), camera: copyOf(camera), background: copyOf(background), video: factsOf(video), method, offset_s: offsetS };
-    const videoBytes = await video.file.arrayBuffer();
     const truth = inputs.truth ? copyOf(inputs.truth) : null;
-    const { opened, done, readMs } = await run.run({ type: "open", take, videoBytes, estimateOffset: ui.estimateOffset.checked, truth }, video);
+    const tracked = await Promise.all(runs.map(async (run, k) => {
+      const view = views[k];
+      const video = /** @type {TakeVideo} */ (view.video);
+      const take = { recording: copyOf(recording), camera: copyOf(/** @type {FileBytes} */ (view.camera)),
+        background: copyOf(/** @type {FileBytes} */ (view.background)), video: factsOf(video), method, offset_s: view.offsetS() };
+      // A truth is of the first view's frames: the track is on them.
+      return run.run({ type: "open", take, videoBytes: await video.file.arrayBuffer(), estimateOffset: ui.estimateOffset.checked,
+        truth: k === 0 ? truth : null }, video);
+    }));
+    const { opened, done: first, readMs } = tracked[0];
+    // The weighed track replaces the first view's alone; its timings stay.
+    /** @type {Done} */
+    const done = several ? { ...first, ...(await runs[0].weigh(tracked.slice(1).map((t) => t.done.view))), type: "done" } : first;
     ui.progress.value = 1;
     const result = resultOf(opened, done, readMs, (performance.now() - started) / 1000);
-    showTrack(panel, done);
+    await showTrack(panel, done);
     // A truth shorter than the video: its missing frames have no error.
     const errorCm = done.errors ? Array.from(done.series.recording_time_s, (_, i) => done.errors?.per_frame_cm[i] ?? NaN) : [];
     const series = { ...done.series, error_cm: errorCm, truth_name: errorCm.length > 0 ? inputs.truth?.name ?? "" : "" };
-    await showInPlayer(panel, recording, camera, done.trackedHipsCm, series);
-    panel.say(statusOf(panel, result, done, offsetS, background));
+    await showInPlayer(panel, recording, /** @type {FileBytes} */ (views[0].camera), done.trackedHipsCm, series);
+    const warnings = [...done.files.warnings, ...tracked.slice(1).flatMap((t, k) => t.done.files.warnings.map((/** @type {string} */ w) => viewSaid(k + 1) + w))];
+    panel.say(statusOf(panel, result, tracked.map((t) => t.done), warnings));
     ui.exportRecording.disabled = ui.exportTrack.disabled = false;
-    return result;
+    return { ...result, warnings, views: views.length };
   } finally {
-    run.terminate();
+    runs.forEach((r) => r.terminate());
   }
 }
 
@@ -106,49 +128,79 @@ function resultOf(opened, done, readMs, seconds) {
 }
 
 /**
- * The finished track over the video and in the plots.
+ * The finished track over the videos and in the plots: the first view's
+ * outlines as its track has them, each other view's where the corrected
+ * recording (`done.files`, the one track of all the views) puts the body
+ * as its camera sees it.
  * @param {CameraPanel} panel
- * @param {Pick<Done, "outlines" | "candidates" | "errors">} done
+ * @param {Pick<Done, "outlines" | "candidates" | "errors"> & {files: {recording_text: string}}} done
  */
-function showTrack(panel, done) {
-  const { plots } = panel;
-  panel.outlines = done.outlines;
+async function showTrack(panel, done) {
+  const { plots, inputs } = panel;
+  panel.panes[0].outlines = done.outlines;
+  const recording = { name: inputs.recording?.name ?? "the take", bytes: new TextEncoder().encode(done.files.recording_text) };
+  for (const [k, view] of inputs.views.entries()) {
+    if (k === 0 || !view.video || !view.camera) continue;
+    panel.paneOf(k).outlines = await otherViewOutlines(recording, view);
+  }
   plots.candidates = done.candidates.every((c) => c.tried.length === 0) ? [] : done.candidates;
   plots.errors = done.errors;
-  plots.truthName = panel.inputs.truth?.name ?? "the truth";
+  plots.truthName = inputs.truth?.name ?? "the truth";
   void panel.drawOverlay();
   panel.paintPlots();
   void plots.paintTop();
 }
 
 /**
+ * A view other than the first's outlines where the corrected `recording`
+ * puts the body (`FinishedTakeView` with no track).
+ * @param {{name: string, bytes: Uint8Array}} recording
+ * @param {import("./inputs.js").ViewInputs} view
+ */
+async function otherViewOutlines(recording, view) {
+  const m = await loadCameraModule();
+  const video = /** @type {TakeVideo} */ (view.video);
+  const taken = new m.FinishedTakeView({ recording, camera: copyOf(/** @type {FileBytes} */ (view.camera)), track: null,
+    video: factsOf(video), offset_s: view.offsetS() });
+  try {
+    return taken.outlines_px();
+  } finally {
+    taken.free();
+  }
+}
+
+/**
  * What the status line says of a finished track; an estimated offset worth
- * tracking again with is put in the offset field (the CLI does it itself).
+ * tracking again with is put in its view's offset (the CLI does it itself).
  * @param {CameraPanel} panel
  * @param {TrackResult} result
- * @param {Done} done
- * @param {number} offsetS the offset tracked with
- * @param {FileBytes & {fromVideo?: boolean}} background
+ * @param {Done[]} dones each view's
+ * @param {string[]} warnings
  */
-function statusOf(panel, result, done, offsetS, background) {
+function statusOf(panel, result, dones, warnings) {
   const { ui, inputs } = panel;
-  let offsetSaid = done.offsetProblem ? `; ${done.offsetProblem}` : "";
-  if (done.offset) {
+  const several = dones.length > 1;
+  const offsetSaid = dones.map((done, k) => {
+    const view = inputs.views[k];
+    const of = several ? `view ${k + 1}'s ` : "";
+    if (!done.offset) return done.offsetProblem ? `; ${of}${done.offsetProblem}` : "";
     const estimate = done.offset.offset_s;
-    offsetSaid = `; estimated offset: the BVH runs ${estimate.toFixed(3)} s ahead of the video`;
-    if (inputs.video && Math.abs(estimate - offsetS) * inputs.video.fps > 0.5) {
-      ui.offset.value = String(estimate);
-      offsetSaid += " (now in the offset field: track again to use it)";
+    let said = `; ${of}estimated offset: the BVH runs ${estimate.toFixed(3)} s ahead of the video`;
+    if (view.video && Math.abs(estimate - view.offsetS()) * view.video.fps > 0.5) {
+      view.offsetText = String(estimate);
+      said += " (now in the offset field: track again to use it)";
     }
-  }
+    return said;
+  }).join("");
+  ui.offset.value = inputs.view.offsetText;
   const e = result.truthErrors;
   const truthSaid = e
     ? `; against ${inputs.truth?.name}: mean ${e.meanCm.toFixed(1)} cm, p90 ${e.p90Cm.toFixed(1)}, max ${e.maxCm.toFixed(1)}`
-    : done.truthProblem ? `; ${done.truthProblem}` : "";
-  const warnings = done.files.warnings;
-  return `${ui.method.value}: ${done.frames} frames tracked, ${result.framesPerSecond.toFixed(1)} frames per second` +
-    truthSaid + offsetSaid + (warnings.length > 0 ? `; ${warnings.join("; ")}` : "") +
-    (background.fromVideo ? `; no background still: ${background.name} stands for the empty room` : "");
+    : dones[0].truthProblem ? `; ${dones[0].truthProblem}` : "";
+  const fromVideo = inputs.views.filter((v) => v.background?.fromVideo).map((v) => `; no background still: ${v.background?.name} stands for the empty room`);
+  return `${ui.method.value}: ${dones[0].frames} frames tracked${several ? ` by ${dones.length} cameras` : ""}, ` +
+    `${result.framesPerSecond.toFixed(1)} frames per second` +
+    truthSaid + offsetSaid + (warnings.length > 0 ? `; ${warnings.join("; ")}` : "") + fromVideo.join("");
 }
 
 /**
@@ -180,26 +232,32 @@ async function showInPlayer(panel, recording, camera, trackedHipsCm, series) {
 }
 
 /**
- * Shows a take tracked before (its corrected BVH, its track CSV, its camera
- * and its video) as a track just finished shows, with no tracking: the
- * outlines over the video, the plots, the take in the player. Rejects with
- * the message the page shows when the files are not one take's.
+ * Shows a take tracked before (its corrected BVH, its track CSV, and per
+ * view its camera and its video) as a track just finished shows, with no
+ * tracking: the outlines over each video, the plots, the take in the
+ * player. Rejects with the message the page shows when the files are not
+ * one take's.
  * @param {CameraPanel} panel
  */
 export async function showFinishedTake(panel) {
   const { inputs, plots } = panel;
-  const { video, recording, camera, track } = inputs;
-  if (!video || !recording || !camera || !track) throw new Error("open a video, its tracked BVH, its track CSV and a camera.json");
+  const { recording, track, views } = inputs;
+  const { video, camera } = views[0];
+  if (!video || !recording || !camera || !track || views.some((v) => !v.video || !v.camera)) {
+    throw new Error("open the tracked BVH, its track CSV, and each view's video and camera.json");
+  }
   const m = await loadCameraModule();
-  const offsetS = panel.offsetS();
-  const view = new m.FinishedTakeView({ recording: copyOf(recording), camera: copyOf(camera), track: copyOf(track), video: factsOf(video), offset_s: offsetS });
+  const view = new m.FinishedTakeView({ recording: copyOf(recording), camera: copyOf(camera), track: copyOf(track),
+    video: factsOf(video), offset_s: views[0].offsetS() });
   try {
     plots.clear();
     plots.path = view.path();
-    showTrack(panel, { outlines: view.outlines_px(), candidates: [], errors: null });
+    const text = new TextDecoder().decode(recording.bytes);
+    await showTrack(panel, { outlines: view.outlines_px(), candidates: [], errors: null, files: { recording_text: text } });
     await showInPlayer(panel, recording, camera, view.tracked_hips_cm(), view.take_series());
   } finally {
     view.free();
   }
-  panel.say(`${track.name}: ${video.frameCount} frames tracked before, shown as they are (Track tracks the take again)`);
+  const by = views.length > 1 ? ` by ${views.length} cameras` : "";
+  panel.say(`${track.name}: ${video.frameCount} frames tracked${by} before, shown as they are (Track tracks the take again)`);
 }

@@ -12,6 +12,8 @@ import { frameAt } from "../video-frames.js";
 /** @typedef {import("./protocol.js").FromTracker} FromTracker */
 /** @typedef {import("./protocol.js").Opened} Opened */
 /** @typedef {import("./protocol.js").Done} Done */
+/** @typedef {import("./protocol.js").Weighed} Weighed */
+/** @typedef {import("./protocol.js").FinishedViewFrames} FinishedViewFrames */
 /** @typedef {import("./protocol.js").FrameProgress} FrameProgress */
 /** @typedef {import("./inputs.js").TakeVideo} TakeVideo */
 
@@ -19,7 +21,7 @@ import { frameAt } from "../video-frames.js";
 export class TrackerRun {
   /** Ends the run with its message. @type {(e: Error) => void} */
   cancel = () => {};
-  /** The worker's reply awaited, by type. @type {{opened?: (m: Opened) => void, done?: (m: Done) => void}} */
+  /** The worker's reply awaited, by type. @type {{opened?: (m: Opened) => void, done?: (m: Done) => void, weighed?: (m: Weighed) => void}} */
   #waiting = {};
   /** Frames sent and not yet tracked, and who waits for one to be. */
   #inFlight = 0;
@@ -64,6 +66,8 @@ export class TrackerRun {
         return this.#waiting.opened?.(m);
       case "done":
         return this.#waiting.done?.(m);
+      case "weighed":
+        return this.#waiting.weighed?.(m);
       default:
         throw unexpected("the tracker's worker", m);
     }
@@ -71,9 +75,9 @@ export class TrackerRun {
 
   /**
    * The worker's reply of `type`, or the run's failure.
-   * @template {"opened" | "done"} K
+   * @template {"opened" | "done" | "weighed"} K
    * @param {K} type
-   * @returns {Promise<K extends "opened" ? Opened : Done>}
+   * @returns {Promise<K extends "opened" ? Opened : K extends "done" ? Done : Weighed>}
    */
   #reply(type) {
     return Promise.race([new Promise((ok) => (this.#waiting[type] = ok)), this.#failed]);
@@ -96,6 +100,17 @@ export class TrackerRun {
     // seek each.
     if (!opened.decodes) readMs = await this.#sendFrames(video, opened.video.frame_count);
     return { opened, done: await this.#reply("done"), readMs };
+  }
+
+  /**
+   * After `run`, this (the first) view's track weighed with the other
+   * views' tracks (`Done.view` of their runs).
+   * @param {FinishedViewFrames[]} views
+   * @returns {Promise<Weighed>}
+   */
+  weigh(views) {
+    this.#send({ type: "weigh", views });
+    return this.#reply("weighed");
   }
 
   /**
