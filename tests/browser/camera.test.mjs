@@ -896,3 +896,44 @@ test("a take filmed by two cameras: tracked in the page as embusen track tracks 
   assert.match(await wrong.page.textContent("#camera-panel .camera-inputs"), /walk\.suit\.bvh/);
   await wrong.page.close();
 });
+
+test("two cameras' files picked together go each to its view, and each view calibrates from its own board", async (t) => {
+  if (skipWithoutData(t)) return;
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(String(e)));
+  await page.goto(`${server.url}/?autoplay=0`);
+  const first = (name) => join(DATA, "optical", name);
+  const second = (name) => join(DATA, "optical", "second_view", name);
+  const file = (path, mimeType) => ({ name: path.split("/").pop(), mimeType, buffer: readFileSync(path) });
+  // As `embusen track` pairs its flags: the i-th video, the i-th board
+  // still, layout and camera (here its lens) are the i-th view's.
+  await page.setInputFiles("#camera-panel input[type=file]", [
+    file(first("walk.mp4"), "video/mp4"), file(second("walk.mp4"), "video/mp4"), file(first("walk.suit.bvh"), "text/plain"),
+    file(first("walk.board.png"), "image/png"), file(second("walk.board.png"), "image/png"),
+    file(first("walk.board.json"), "application/json"), file(second("walk.board.json"), "application/json"),
+    file(first("walk.camera.json"), "application/json"), file(second("walk.camera.json"), "application/json"),
+  ]);
+  await page.waitForFunction(() => /view 2's board layout/.test(document.querySelector("#camera-panel .camera-inputs")?.textContent ?? ""),
+    null, { timeout: 60000 });
+  assert.equal(await page.evaluate(() => document.querySelector("#camera-panel").embusenCamera.views), 2);
+  for (const [view, truthPath] of [[1, second("walk.camera.json")], [0, first("walk.camera.json")]]) {
+    const truth = JSON.parse(readFileSync(truthPath, "utf8"));
+    const found = await page.evaluate(async (view) => {
+      const panel = document.querySelector("#camera-panel").embusenCamera;
+      panel.selectView(view);
+      const outcome = await panel.calibrate();
+      return { ...outcome, camera: JSON.parse(outcome.camera) };
+    }, view);
+    const off = Math.hypot(...found.camera.camera_center_world_cm.map((c, i) => c - truth.camera_center_world_cm[i]));
+    console.log(`view ${view + 1} calibrated from its board in the page: ${found.corners} corners, ` +
+      `reprojection ${found.rmsPx.toFixed(2)} px rms, camera centre ${off.toFixed(2)} cm from its true one`);
+    assert.ok(off < 2, `view ${view + 1}: the camera centre is ${off.toFixed(2)} cm from the true one`);
+  }
+  const listed = await page.textContent("#camera-panel .camera-inputs");
+  for (const view of [1, 2]) {
+    assert.match(listed, new RegExp(`view ${view}'s camera \\(camera\\.json\\): camera\\.json \\(from walk\\.board\\.png\\)`), listed);
+  }
+  assert.deepEqual(errors, []);
+  await page.close();
+});

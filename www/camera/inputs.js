@@ -147,9 +147,10 @@ export class TakeInputs {
     const seen = new Map();
     return files.map((f) => {
       const kind = kindOfFile(f);
-      // A camera and a board's layout are both JSON: counted together.
-      const counted = kind === "json" ? "json" : kind;
-      if (counted === null || !(/** @type {readonly string[]} */ (PER_VIEW).includes(counted) || counted === "json")) {
+      // A camera and a board's layout are both JSON (`add` tells them by
+      // their fields): counted apart by name, as a board's still is.
+      const counted = kind === "json" ? (f.name.toLowerCase().includes("board") ? "boardLayout" : "camera") : kind;
+      if (counted === null || !(/** @type {readonly string[]} */ (PER_VIEW).includes(counted))) {
         return [f, this.view];
       }
       const k = seen.get(counted) ?? 0;
