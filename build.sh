@@ -6,6 +6,7 @@
 #   ./build.sh bench   the speed figures (native core, then in the browser)
 #   ./build.sh demo    the command-line tool on the built-in demo recording
 #   ./build.sh golden [COMMIT]  output byte for byte as at COMMIT (tests/golden.sh)
+#   ./build.sh speed [COMMIT]   embusen track's whole process, COMMIT's and this tree's side by side (benches/speed.sh)
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -148,8 +149,9 @@ case "${1:-serve}" in
     bench) cmd_bench ;;
     demo) cmd_demo ;;
     golden) exec tests/golden.sh "${@:2}" ;;
+    speed) ensure_ffmpeg && exec benches/speed.sh "${@:2}" ;;
     *)
-        echo "usage: ./build.sh [serve|build|test|bench|demo|golden [COMMIT]]" >&2
+        echo "usage: ./build.sh [serve|build|test|bench|demo|golden [COMMIT]|speed [COMMIT]]" >&2
         exit 2
         ;;
 esac

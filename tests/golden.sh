@@ -33,20 +33,10 @@ base_commit="$(git rev-parse --verify "$BASE^{commit}")"
 mkdir -p "$WORK"
 
 # --- the two binaries ------------------------------------------------------------
-build_base() {
-    local src="$BASE_BUILD/base-src"
-    mkdir -p "$BASE_BUILD"
-    if [ "$(cat "$BASE_BUILD/base-commit" 2>/dev/null)" != "$base_commit" ]; then
-        rm -rf "$src"
-        mkdir -p "$src"
-        git archive "$base_commit" | tar -x -C "$src"
-        echo "$base_commit" >"$BASE_BUILD/base-commit"
-    fi
-    (cd "$src" && CARGO_TARGET_DIR="$BASE_BUILD/base-target" cargo build --release --quiet --bin embusen)
-}
-build_base
+# shellcheck source=tests/base_cli.sh
+source tests/base_cli.sh
+BASE_BIN="$(build_base_cli "$base_commit" "$BASE_BUILD")"
 cargo build --release --quiet --bin embusen
-BASE_BIN="$BASE_BUILD/base-target/release/embusen"
 HEAD_BIN="${CARGO_TARGET_DIR:-$ROOT/target}/release/embusen"
 
 # A BVH that has an accelerometer file beside it, once more without it.

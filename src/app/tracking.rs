@@ -293,11 +293,23 @@ impl TrackingJob {
     /// The scorer of the fused energy apart from the tracker (made when
     /// first asked); an error for the paper's tracker.
     fn path_scorer(&mut self) -> Result<&mut PathScorer, Error> {
-        let TrackMethod::Fused(params) = self.take.method else {
-            return Err(Error::whole("<path scorer>", "only the fused tracker searches a path"));
-        };
-        let setup = &self.take.setup;
-        Ok(self.path_scorer.get_or_insert_with(|| PathScorer::new(setup.clone(), params)))
+        if self.path_scorer.is_none() {
+            self.path_scorer = self.path_scorer_apart();
+        }
+        self.path_scorer
+            .as_mut()
+            .ok_or_else(|| Error::whole("<path scorer>", "only the fused tracker searches a path"))
+    }
+
+    /// A scorer of this job's deferred [`PathRequest`]s to run beside it,
+    /// from the same frames (the CLI's second thread; the page's second
+    /// worker opens a job of its own); `None` for the paper's tracker,
+    /// which searches no path.
+    pub fn path_scorer_apart(&self) -> Option<PathScorer> {
+        match self.take.method {
+            TrackMethod::Fused(params) => Some(PathScorer::new(self.take.setup.clone(), params)),
+            TrackMethod::Paper(_) => None,
+        }
     }
 
     /// Hands back the energies of a request this job made.
