@@ -17,6 +17,7 @@ use crate::error::Error;
 use crate::eval::track::{TrackErrors, frame_errors_cm, track_errors};
 use crate::image::GreyImage;
 use crate::image::background::median_background;
+use crate::image::pipeline::Features;
 use crate::io::hips_csv::parse_hips_csv;
 use crate::io::image_file::png_to_grey;
 use crate::io::recording::Recording;
@@ -275,6 +276,12 @@ impl TrackingJob {
     /// What the frame just tracked leaves to score, when deferred.
     pub fn take_path_request(&mut self) -> Option<PathRequest> {
         self.tracker.as_mut().and_then(Tracker::take_path_request)
+    }
+
+    /// The same with the frame's features, for a scorer in this process
+    /// ([`Tracker::take_path_work`]).
+    pub fn take_path_work(&mut self) -> Option<(PathRequest, Features)> {
+        self.tracker.as_mut().and_then(Tracker::take_path_work)
     }
 
     /// Scores another job's request from the same frame's luma plane (this

@@ -7,6 +7,7 @@ use glam::DVec2;
 
 use crate::error::Error;
 use crate::image::GreyImage;
+use crate::image::pipeline::Features;
 use crate::track::energy::Scorer;
 use crate::track::fused::{FrameScoring, FusedParams, line_of_sight};
 use crate::track::path::PathRequest;
@@ -31,14 +32,20 @@ impl PathScorer {
     /// video frame `request.frame`; NaN where the body is not in the image.
     pub fn energies(&mut self, request: &PathRequest, frame: &GreyImage) -> Result<Vec<f64>, Error> {
         let label = format!("video frame {}", request.frame);
+        let features = self.setup.features(frame, request.truncate_px, &label)?;
+        self.energies_with(request, &features)
+    }
+
+    /// [`PathScorer::energies`] from the frame's `features` as the tracker
+    /// made them ([`crate::track::tracker::Tracker::take_path_work`]).
+    pub fn energies_with(&mut self, request: &PathRequest, features: &Features) -> Result<Vec<f64>, Error> {
+        let label = format!("video frame {}", request.frame);
         let setup = &self.setup;
-        setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
         let Some(body) = setup.posed_body(request.frame)? else {
             return Err(Error::whole(&label, "no pose in the BVH here: no path to score"));
         };
-        let features = setup.features(frame, request.truncate_px, &label)?;
         let mut scoring =
-            FrameScoring::new(setup, &self.params, &mut self.scorer, &body, &features, request.prediction_cm);
+            FrameScoring::new(setup, &self.params, &mut self.scorer, &body, features, request.prediction_cm);
         Ok(request.candidates_cm.iter().map(|&p| scoring.energy(p)).collect())
     }
 

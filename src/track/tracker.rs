@@ -13,6 +13,7 @@ use glam::{DMat2, DVec2, DVec3};
 
 use crate::error::Error;
 use crate::image::GreyImage;
+use crate::image::pipeline::Features;
 use crate::track::energy::Scorer;
 use crate::track::fused::{FusedParams, FusedTracker, SmoothedFrame};
 use crate::track::path::PathRequest;
@@ -149,6 +150,10 @@ pub struct Tracker {
     scorer: Scorer,
     state: TrackerState,
     frames: Vec<TrackedFrame>,
+    /// With the path energies deferred: the last frame read (its index)
+    /// and its features, for a scorer beside the tracker in the same
+    /// process to score its request from ([`Tracker::take_path_work`]).
+    last_features: Option<(usize, Features)>,
 }
 
 impl Tracker {
@@ -164,7 +169,13 @@ impl Tracker {
             TrackMethod::Paper(params) => TrackerState::Paper(RiecickyTracker::new(params)?),
             TrackMethod::Fused(params) => TrackerState::Fused(Box::new(FusedTracker::new(params))),
         };
-        Ok(Tracker { scorer: Scorer::new(&setup.camera), setup, state, frames: Vec::new() })
+        Ok(Tracker {
+            scorer: Scorer::new(&setup.camera),
+            setup,
+            state,
+            frames: Vec::new(),
+            last_features: None,
+        })
     }
 
     /// From now on the fused tracker does not score the path search's
@@ -184,9 +195,25 @@ impl Tracker {
     /// What the frame just read leaves to score (deferred only; `None`
     /// where it has nothing: no pose, a fit not believable, the paper's).
     pub fn take_path_request(&mut self) -> Option<PathRequest> {
+        self.last_features = None;
         match &mut self.state {
             TrackerState::Fused(fused) => fused.path().take_request(),
             TrackerState::Paper(_) => None,
+        }
+    }
+
+    /// [`Tracker::take_path_request`] with the frame's features the
+    /// tracker made, for a scorer in the same process
+    /// ([`crate::track::path_scorer::PathScorer::energies_with`]): the frame
+    /// is read once, not once for each (the page's second worker has no
+    /// share in this one's memory, and reads it again).
+    pub fn take_path_work(&mut self) -> Option<(PathRequest, Features)> {
+        let features = self.last_features.take();
+        let request = self.take_path_request()?;
+        match features {
+            Some((frame, features)) if frame == request.frame => Some((request, features)),
+            // Made in the same push_frame as the request: not reached.
+            _ => None,
         }
     }
 
@@ -220,7 +247,8 @@ impl Tracker {
     pub fn push_frame(&mut self, frame: &GreyImage) -> Result<&TrackedFrame, Error> {
         let i = self.frames.len();
         let label = format!("video frame {i}");
-        let Tracker { setup, scorer, state, frames } = self;
+        let Tracker { setup, scorer, state, frames, last_features } = self;
+        *last_features = None;
         setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
         let time_s = i as f64 / setup.timing.fps;
         let instant = setup.suit.instant(setup.timing.bvh_time_s(i));
@@ -249,9 +277,15 @@ impl Tracker {
         };
         let mask = &foreground.foreground;
         let foreground_share = mask.count() as f64 / mask.on.len().max(1) as f64;
+        let difference_noise = foreground.noise_sd as f64;
+        if let TrackerState::Fused(fused) = state
+            && fused.path().is_deferred()
+        {
+            *last_features = Some((i, foreground));
+        }
         frames.push(TrackedFrame {
             foreground_share,
-            difference_noise: foreground.noise_sd as f64,
+            difference_noise,
             ..tracked_frame(time_s, height_cm, estimate)
         });
         Ok(&frames[i])

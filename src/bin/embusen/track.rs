@@ -12,6 +12,7 @@ use embusen::camera::Camera;
 use embusen::eval::track::{TrackErrors, share_within_uncertainty, track_errors};
 use embusen::image::GreyImage;
 use embusen::image::background::MEDIAN_FRAMES;
+use embusen::image::pipeline::Features;
 use embusen::io::hips_csv::parse_hips_csv;
 use embusen::io::image_file::{ImageSequence, open_png_grey};
 use embusen::io::recording::Recording;
@@ -261,11 +262,11 @@ fn track_beside_scorer(
 ) -> Result<f64, Error> {
     job.defer_path_energies();
     std::thread::scope(|threads| {
-        let (to_scorer, requests) = mpsc::sync_channel::<(PathRequest, GreyImage)>(FRAMES_AHEAD_OF_SCORER);
+        let (to_scorer, requests) = mpsc::sync_channel::<(PathRequest, Features)>(FRAMES_AHEAD_OF_SCORER);
         let (to_tracker, scored) = mpsc::channel::<Result<(usize, Vec<f64>), Error>>();
         threads.spawn(move || {
-            for (request, frame) in requests {
-                let energies = scorer.energies(&request, &frame).map(|e| (request.frame, e));
+            for (request, features) in requests {
+                let energies = scorer.energies_with(&request, &features).map(|e| (request.frame, e));
                 if to_tracker.send(energies).is_err() {
                     return; // the tracker stopped on an error of its own
                 }
@@ -280,9 +281,9 @@ fn track_beside_scorer(
             let frame = frame?;
             let started = Instant::now();
             job.push_grey(&frame)?;
-            if let Some(request) = job.take_path_request() {
+            if let Some(work) = job.take_path_work() {
                 // An error here: the scorer stopped, its error waits below.
-                if to_scorer.send((request, frame)).is_err() {
+                if to_scorer.send(work).is_err() {
                     break;
                 }
             }
