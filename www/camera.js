@@ -14,13 +14,13 @@
 //   const result = await handle.track();   // {recording, csv, warnings, framesPerSecond, ...}
 //   handle.destroy();
 
-import { buildPanel, download } from "./camera/panel.js";
+import { buildPanel } from "./camera/panel.js";
+import { download, fetchOk, messageOf } from "./files.js";
 import { TakeInputs, kindOf, stemOf } from "./camera/inputs.js";
 import { ViewPane } from "./camera/pane.js";
 import { TakePlots } from "./camera/plots.js";
 import { CORNER_NAMES, calibrateFromBoard, calibrateFromCorners } from "./camera/calibration.js";
 import { showFinishedTake, trackTake } from "./camera/track.js";
-import { messageOf } from "./camera/protocol.js";
 import { videoClock } from "./camera/clock.js";
 
 /** @typedef {import("./camera/inputs.js").ViewInputs} ViewInputs */
@@ -270,8 +270,7 @@ export class CameraPanel {
 
   /** @param {string} url @param {import("./camera/inputs.js").InputKind} kind @param {ViewInputs} [view] */
   async openUrl(url, kind, view) {
-    const response = await fetch(url);
-    if (!response.ok) throw new Error(`${url}: ${response.status} ${response.statusText}`);
+    const response = await fetchOk(url);
     await this.add(await response.blob(), url.split("/").pop() || url, kind, view);
   }
 

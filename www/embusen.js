@@ -16,7 +16,8 @@
 
 import { wirePlayback, wireFullControls } from "./player/controls.js";
 import { buildPlayer, canvasSizer } from "./player/elements.js";
-import { errorShower, messageOf, onPanic } from "./player/errors.js";
+import { errorShower, onPanic } from "./player/errors.js";
+import { messageOf } from "./files.js";
 import { showInfo } from "./player/info.js";
 import { wireKeys, wirePlots, wireView, wakeOnInput } from "./player/input.js";
 import { loadGuard, loaders } from "./player/loading.js";

@@ -7,7 +7,8 @@
 // other is an error, after which it takes nothing more.
 
 import init, { CameraJob } from "./pkg-camera/embusen.js";
-import { messageOf, unexpected } from "./camera/protocol.js";
+import { unexpected } from "./camera/protocol.js";
+import { messageOf } from "./files.js";
 
 /** @typedef {import("./camera/protocol.js").ToScorer} ToScorer */
 /** @typedef {import("./camera/protocol.js").FromScorer} FromScorer */

@@ -19,7 +19,8 @@
 
 import init, { CameraJob } from "./pkg-camera/embusen.js";
 import { decodable, decodeFrames } from "./camera/decode.js";
-import { messageOf, unexpected } from "./camera/protocol.js";
+import { unexpected } from "./camera/protocol.js";
+import { messageOf } from "./files.js";
 
 /** @typedef {import("./camera/protocol.js").ToTracker} ToTracker */
 /** @typedef {import("./camera/protocol.js").FromTracker} FromTracker */

@@ -4,7 +4,7 @@
 
 import { demux_video } from "../pkg-camera/embusen.js";
 import { lumaOf } from "../video-frames.js";
-import { messageOf } from "./protocol.js";
+import { messageOf } from "../files.js";
 
 /** @typedef {import("../pkg-camera/embusen.js").VideoFacts} VideoFacts */
 /** @typedef {import("../pkg-camera/embusen.js").EncodedFrame} EncodedFrame */

@@ -90,11 +90,3 @@ export function buildPanel(element) {
 
 /** @typedef {ReturnType<typeof buildPanel>} PanelElements */
 
-/** Downloads `text` as a file named `name`. @param {string} text @param {string} name */
-export function download(text, name) {
-  const a = document.createElement("a");
-  a.href = URL.createObjectURL(new Blob([text], { type: "text/plain" }));
-  a.download = name;
-  a.click();
-  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
-}

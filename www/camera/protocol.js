@@ -91,6 +91,3 @@
 export function unexpected(who, message) {
   return new Error(`${who}: an unexpected message of type ${JSON.stringify(message?.type)}`);
 }
-
-/** A thrown value's message. @param {unknown} e */
-export const messageOf = (e) => (e instanceof Error ? e.message : String(e));

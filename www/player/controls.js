@@ -5,7 +5,7 @@
 // on the player. Every choice and default comes from the wasm module's
 // `options()`; the info panel (info.js) shows the settings in use.
 
-import { messageOf } from "./errors.js";
+import { download, messageOf } from "../files.js";
 
 /** @typedef {import("../pkg/embusen.js").Player} Player */
 /** @typedef {import("../pkg/embusen.js").PlayerSettings} Settings */
@@ -166,20 +166,16 @@ export function wireFullControls(c, refresh) {
     }, { signal });
   }
   /** @param {() => Export} make */
-  const download = (make) => {
+  const save = (make) => {
     try {
       const { name, text } = make();
-      const a = document.createElement("a");
-      a.href = URL.createObjectURL(new Blob([text], { type: "text/plain" }));
-      a.download = name;
-      a.click();
-      setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+      download(text, name);
     } catch (e) {
       showError(messageOf(e));
     }
   };
-  get("[data-action=export-recording]", HTMLButtonElement).addEventListener("click", () => download(() => player.export_recording()), { signal });
-  get("[data-action=export-hips]", HTMLButtonElement).addEventListener("click", () => download(() => player.export_hips_csv()), { signal });
+  get("[data-action=export-recording]", HTMLButtonElement).addEventListener("click", () => save(() => player.export_recording()), { signal });
+  get("[data-action=export-hips]", HTMLButtonElement).addEventListener("click", () => save(() => player.export_hips_csv()), { signal });
   // A drop here is this player's: preventDefault tells the page's own drop handler so.
   element.addEventListener("dragover", (e) => e.preventDefault(), { signal });
   element.addEventListener("drop", (e) => {

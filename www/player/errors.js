@@ -1,7 +1,8 @@
 // @ts-check
-// How the player says what went wrong: a thrown value's message, the error
-// box under the player, and the wasm module's panic, told to every player on
-// the page (after one the module is unusable, so each stops and says so).
+// How the player says what went wrong: the error box under the player
+// (a thrown value's message is ../files.js's), and the wasm module's
+// panic, told to every player on the page (after one the module is
+// unusable, so each stops and says so).
 
 /** The event the wasm module sends the window when it panics (src/web/panic.rs). */
 const PANIC_EVENT = "embusen-panic";
@@ -23,8 +24,6 @@ export function onPanic(show) {
   return () => panicked.delete(show);
 }
 
-/** A thrown value's message. @param {unknown} e */
-export const messageOf = (e) => String(e instanceof Error ? e.message : e);
 
 /**
  * Shows a message in the error box; an empty one hides it.

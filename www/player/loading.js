@@ -3,16 +3,12 @@
 // and given to the wasm player; each shows "Loading…" and, on failure, the
 // error, keeping what was open.
 
-import { messageOf } from "./errors.js";
+import { fetchOk, messageOf } from "../files.js";
 
 /** @typedef {import("../pkg/embusen.js").Player} Player */
 
 /** @param {string} url */
-const fetchBytes = async (url) => {
-  const response = await fetch(url);
-  if (!response.ok) throw new Error(`${url}: HTTP ${response.status}`);
-  return new Uint8Array(await response.arrayBuffer());
-};
+const fetchBytes = async (url) => new Uint8Array(await (await fetchOk(url)).arrayBuffer());
 /** @param {string} url */
 const fileName = (url) => decodeURIComponent(new URL(url, location.href).pathname.split("/").pop() || url);
 /** @param {Blob} file */

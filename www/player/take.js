@@ -4,7 +4,7 @@
 // player for a take (`video`), whose code is imported only then, so that a
 // player alone (an embed, the demo) downloads none of it.
 
-import { messageOf } from "./errors.js";
+import { messageOf } from "../files.js";
 
 /** @typedef {import("../pkg/embusen.js").Player} Player */
 /** @typedef {import("../pkg/embusen.js").Options} Options */
