@@ -24,9 +24,7 @@ if [ ! -d "$DATA" ]; then
 fi
 # shellcheck source=tests/base_cli.sh
 source tests/base_cli.sh
-BASE_BIN="$(build_base_cli "$BASE" "$WORK")"
-cargo build --release --quiet --bin embusen
-HEAD_BIN="${CARGO_TARGET_DIR:-$ROOT/target}/release/embusen"
+build_base_and_head_cli "$BASE" "$WORK"
 
 # walk at 1440×1080: the video, its background and its camera scaled by
 # 2.25 (a pixel's centre at (x + 0.5) · 2.25 − 0.5).

@@ -17,3 +17,11 @@ build_base_cli() {
     (cd "$dir/base-src" && CARGO_TARGET_DIR="$dir/base-target" cargo build --release --quiet --bin embusen) >&2
     echo "$dir/base-target/release/embusen"
 }
+
+# Sets BASE_BIN, `embusen` at commit $1 (built in folder $2), and
+# HEAD_BIN, the work tree's (built where cargo builds).
+build_base_and_head_cli() {
+    BASE_BIN="$(build_base_cli "$1" "$2")"
+    cargo build --release --quiet --bin embusen
+    HEAD_BIN="${CARGO_TARGET_DIR:-$PWD/target}/release/embusen"
+}

@@ -35,9 +35,7 @@ mkdir -p "$WORK"
 # --- the two binaries ------------------------------------------------------------
 # shellcheck source=tests/base_cli.sh
 source tests/base_cli.sh
-BASE_BIN="$(build_base_cli "$base_commit" "$BASE_BUILD")"
-cargo build --release --quiet --bin embusen
-HEAD_BIN="${CARGO_TARGET_DIR:-$ROOT/target}/release/embusen"
+build_base_and_head_cli "$base_commit" "$BASE_BUILD"
 
 # A BVH that has an accelerometer file beside it, once more without it.
 NOACCEL="$WORK/inputs"
