@@ -16,7 +16,7 @@
 
 import { buildPanel } from "./camera/panel.js";
 import { download, fetchOk, messageOf } from "./files.js";
-import { TakeInputs, kindOf, stemOf } from "./camera/inputs.js";
+import { TakeInputs, jsonKindOf, kindOf, stemOf } from "./camera/inputs.js";
 import { ViewPane } from "./camera/pane.js";
 import { TakePlots } from "./camera/plots.js";
 import { CORNER_NAMES, calibrateFromBoard, calibrateFromCorners } from "./camera/calibration.js";
@@ -119,6 +119,7 @@ export class CameraPanel {
     if (k === this.inputs.selected || this.clicking || k >= this.inputs.views.length) return;
     this.keepOffsetField();
     this.inputs.selected = k;
+    this.clicked = []; // the corners clicked on the view left
     this.ui.offset.value = this.inputs.view.offsetText;
     this.paneOf(k);
     this.showInputs();
@@ -189,6 +190,7 @@ export class CameraPanel {
       ? "find the board in its still and calibrate the camera from it"
       : "find the board in the video frame shown and calibrate the camera from it";
     ui.clickCorners.disabled = !inputs.video || busy;
+    ui.addView.disabled = busy;
     ui.exportCamera.disabled = !inputs.camera;
     void this.drawOverlay();
     const missing = inputs.missing();
@@ -210,7 +212,9 @@ export class CameraPanel {
     const video = view.video.element;
     const pane = this.paneOf(k);
     pane.outlines = [];
-    video.controls = k === 0; // the first view's drives the others
+    // With a player the first view's video drives the others (one clock);
+    // without, each is its own.
+    video.controls = k === 0 || !this.options.player;
     const player = this.options.player;
     const follow = () => {
       void this.drawOverlay();
@@ -251,9 +255,12 @@ export class CameraPanel {
    */
   async open(files) {
     const problems = [];
-    for (const [file, view] of this.inputs.placesOf(Array.from(files), kindOf)) {
+    // A camera and a board's layout are both JSON: told apart by what is in them first.
+    const kinds = new Map(await Promise.all(Array.from(files, async (f) => /** @type {const} */ (
+      [f, kindOf(f) === "json" ? await jsonKindOf(f) : kindOf(f)]))));
+    for (const [file, view] of this.inputs.placesOf(Array.from(files), (f) => kinds.get(f) ?? null)) {
       try {
-        await this.add(file, file.name, kindOf(file), view);
+        await this.add(file, file.name, kinds.get(file) ?? null, view);
       } catch (e) {
         problems.push(messageOf(e));
       }
@@ -280,8 +287,8 @@ export class CameraPanel {
    * take's is said in the status line.
    */
   async showFinished() {
-    const { recording, track, views } = this.inputs;
-    if (!recording || !track || views.some((v) => !v.video || !v.camera) || this.run) return;
+    const { recording, track, tracked } = this.inputs;
+    if (!recording || !track || tracked.some((v) => !v.video || !v.camera) || this.run) return;
     this.keepOffsetField();
     try {
       await showFinishedTake(this);
@@ -318,8 +325,9 @@ export class CameraPanel {
   async calibrate() {
     try {
       this.say("finding the board…");
+      const pane = this.pane; // the view calibrated, whichever is selected when the board is found
       const { outcome, found, said } = await calibrateFromBoard(this.inputs, this.shownFrame());
-      this.pane.boardCorners = found;
+      pane.boardCorners = found;
       this.showInputs();
       this.say(said);
       return outcome;

@@ -911,7 +911,8 @@ test("two cameras' files picked together go each to its view, and each view cali
   await page.setInputFiles("#camera-panel input[type=file]", [
     file(first("walk.mp4"), "video/mp4"), file(second("walk.mp4"), "video/mp4"), file(first("walk.suit.bvh"), "text/plain"),
     file(first("walk.board.png"), "image/png"), file(second("walk.board.png"), "image/png"),
-    file(first("walk.board.json"), "application/json"), file(second("walk.board.json"), "application/json"),
+    // A layout is told from a camera by what is in it, whatever its name.
+    file(first("walk.board.json"), "application/json"), { ...file(second("walk.board.json"), "application/json"), name: "layout.json" },
     file(first("walk.camera.json"), "application/json"), file(second("walk.camera.json"), "application/json"),
   ]);
   await page.waitForFunction(() => /view 2's board layout/.test(document.querySelector("#camera-panel .camera-inputs")?.textContent ?? ""),
@@ -934,6 +935,13 @@ test("two cameras' files picked together go each to its view, and each view cali
   for (const view of [1, 2]) {
     assert.match(listed, new RegExp(`view ${view}'s camera \\(camera\\.json\\): camera\\.json \\(from walk\\.board\\.png\\)`), listed);
   }
+  assert.match(listed, /view 2's board layout \(BOARD\.json\): layout\.json/, listed);
+  // A camera added and left empty does not stop a track of the two.
+  const trackButton = "#camera-panel [data-action=track]";
+  assert.equal(await page.isDisabled(trackButton), false);
+  await page.click("#camera-panel [data-action=add-view]");
+  assert.equal(await page.evaluate(() => document.querySelector("#camera-panel").embusenCamera.views), 3);
+  assert.equal(await page.isDisabled(trackButton), false, await page.textContent("#camera-panel .camera-status"));
   assert.deepEqual(errors, []);
   await page.close();
 });

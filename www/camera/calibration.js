@@ -30,14 +30,16 @@ const cameraHere = (name, json) => ({ name, bytes: /** @type {ArrayBuffer} */ (n
  * @returns {Promise<{outcome: {rmsPx: number, maxPx: number, corners: number, camera: string}, found: PixelPoint[], said: string}>}
  */
 export async function calibrateFromBoard(inputs, shownFrame) {
-  const { boardLayout, video } = inputs;
-  const lens = inputs.camera?.calibratedHere ? undefined : inputs.camera;
-  if (!boardLayout || !(inputs.board || video)) throw new Error("open the board's layout (BOARD.json) and a still of the board or a video showing it first");
+  // The view selected now: another may be selected before the board is found.
+  const view = inputs.view;
+  const { boardLayout, video } = view;
+  const lens = view.camera?.calibratedHere ? undefined : view.camera;
+  if (!boardLayout || !(view.board || video)) throw new Error("open the board's layout (BOARD.json) and a still of the board or a video showing it first");
   // Without a still, the video frame shown, read exactly.
-  const still = inputs.board ?? (await frameStill(/** @type {NonNullable<typeof video>} */ (video), shownFrame));
+  const still = view.board ?? (await frameStill(/** @type {NonNullable<typeof video>} */ (video), shownFrame));
   const m = await loadBoardModule();
   const fit = m.calibrate_board({ still, board: boardLayout, lens: lens ?? null });
-  inputs.camera = cameraHere(`camera.json (from ${still.name})`, fit.camera_json);
+  view.camera = cameraHere(`camera.json (from ${still.name})`, fit.camera_json);
   const maxPx = fit.max_px ?? fit.rms_px;
   return {
     outcome: { rmsPx: fit.rms_px, maxPx, corners: fit.corners.length, camera: fit.camera_json }, found: fit.corners,
@@ -55,7 +57,8 @@ export async function calibrateFromBoard(inputs, shownFrame) {
  * @param {string} focal the focal length (px), or empty to estimate it
  */
 export async function calibrateFromCorners(inputs, clicked, rectangle, focal) {
-  const video = inputs.video;
+  const view = inputs.view; // the view selected now, as above
+  const video = view.video;
   if (!video || clicked.length !== 4) throw new Error("click the four floor corners first");
   const size = /^\s*([\d.]+)\s*[x×]\s*([\d.]+)\s*$/.exec(rectangle);
   if (!size) throw new Error(`the rectangle "${rectangle}": give its size as WIDTHxDEPTH in cm, e.g. 200x150`);
@@ -70,7 +73,7 @@ export async function calibrateFromCorners(inputs, clicked, rectangle, focal) {
     rmsPx: fit.rms_px, centerSigmaCmPerPx: fit.center_sigma_cm_per_px ?? NaN, focalPx: fit.focal_px, camera: fit.camera_json,
     cornersPx: clicked.flatMap((p) => [p.x_px, p.y_px]),
   };
-  inputs.camera = cameraHere("camera.json (from 4 floor corners)", fit.camera_json);
+  view.camera = cameraHere("camera.json (from 4 floor corners)", fit.camera_json);
   const said = `calibrated from 4 floor corners: reprojection error ${outcome.rmsPx.toFixed(2)} px (rms), focal length ` +
     `${outcome.focalPx.toFixed(0)} px; a pixel of click error moves the camera ${outcome.centerSigmaCmPerPx.toFixed(1)} cm: check the grid`;
   return { outcome, said };

@@ -30,6 +30,8 @@ export function videoClock(video, offsetS, followers = () => []) {
   };
   /** The clock's instant and the player's frame when they last agreed. */
   let agreed = { timeS: NaN, frame: -1 };
+  /** The instant the other views were last moved to, and whether the first played. */
+  let followed = { timeS: NaN, playing: false };
   return {
     // Where the player was moved (its slider, keys, plots) the video is
     // seeked to its instant, even as it plays; where only the clock moved
@@ -45,7 +47,14 @@ export function videoClock(video, offsetS, followers = () => []) {
         player.set_frame(Math.min(last, Math.max(0, Math.round(timeS() * player.fps()))));
       }
       agreed = { timeS: timeS(), frame: player.frame() };
-      for (const f of followers()) follow(f.video, timeS() - f.offsetS, !element.paused && !element.ended);
+      // The others are moved only when the first moved (or started or
+      // stopped): in between, their own frames may be read exactly
+      // (a median still, a layer, a board), which a seek back would undo.
+      const playing = !element.paused && !element.ended;
+      if (agreed.timeS !== followed.timeS || playing !== followed.playing) {
+        for (const f of followers()) follow(f.video, agreed.timeS - f.offsetS, playing);
+        followed = { timeS: agreed.timeS, playing };
+      }
     },
     playing: () => !element.paused && !element.ended,
     setPlaying: (on) => {
@@ -67,6 +76,7 @@ export function videoClock(video, offsetS, followers = () => []) {
  */
 function follow(video, timeS, playing) {
   const { element, fps, frameCount } = video;
+  if (element.seeking) return; // the last seek lands first: a seek each frame would stall it
   const frame = Math.min(frameCount - 1, Math.max(0, Math.floor(timeS * fps + 1e-6)));
   const shown = Math.min(frameCount - 1, Math.floor(element.currentTime * fps + 1e-6));
   if (playing && element.paused && timeS >= 0 && timeS * fps < frameCount) element.play().catch(() => {});

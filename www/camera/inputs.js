@@ -27,6 +27,22 @@ export function kindOf(file) {
   return null;
 }
 
+/**
+ * A JSON file's kind by what is in it: a board's layout has `squares_x`,
+ * anything else is taken for a camera (and said so if it is not one);
+ * "json" when it does not parse (`add` says why).
+ * @param {Blob} file
+ * @returns {Promise<InputKind>}
+ */
+export async function jsonKindOf(file) {
+  try {
+    const parsed = JSON.parse(await file.text());
+    return parsed && typeof parsed === "object" && "squares_x" in parsed ? "boardLayout" : "camera";
+  } catch {
+    return "json";
+  }
+}
+
 /** A file's bytes as text, as the camera module reads a camera.json. @param {FileBytes} f */
 export const textOf = (f) => new TextDecoder().decode(f.bytes);
 
@@ -147,9 +163,8 @@ export class TakeInputs {
     const seen = new Map();
     return files.map((f) => {
       const kind = kindOfFile(f);
-      // A camera and a board's layout are both JSON (`add` tells them by
-      // their fields): counted apart by name, as a board's still is.
-      const counted = kind === "json" ? (f.name.toLowerCase().includes("board") ? "boardLayout" : "camera") : kind;
+      // A JSON not yet told apart (see `jsonKindOf`) counts as a camera.
+      const counted = kind === "json" ? "camera" : kind;
       if (counted === null || !(/** @type {readonly string[]} */ (PER_VIEW).includes(counted))) {
         return [f, this.view];
       }
@@ -159,13 +174,24 @@ export class TakeInputs {
     });
   }
 
+  /**
+   * The views a track takes: all but those added last and left empty (a
+   * `+ camera` given nothing does not stop a track).
+   */
+  get tracked() {
+    const isEmpty = (/** @type {ViewInputs} */ v) => !v.video && !v.camera && !v.background && !v.board && !v.boardLayout;
+    let n = this.views.length;
+    while (n > 1 && isEmpty(this.views[n - 1])) n--;
+    return this.views.slice(0, n);
+  }
+
   /** What a track still needs, each view's named when there are several. */
   missing() {
-    if (this.views.length === 1) {
+    if (this.tracked.length === 1) {
       const view = this.views[0];
       return [view.video ? [] : ["video"], this.recording ? [] : ["recording"], view.camera ? [] : ["camera"]].flat();
     }
-    const views = this.views.flatMap((v, k) => [v.video ? [] : [`view ${k + 1}'s video`], v.camera ? [] : [`view ${k + 1}'s camera`]].flat());
+    const views = this.tracked.flatMap((v, k) => [v.video ? [] : [`view ${k + 1}'s video`], v.camera ? [] : [`view ${k + 1}'s camera`]].flat());
     return [...(this.recording ? [] : ["recording"]), ...views];
   }
 

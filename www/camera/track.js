@@ -44,7 +44,9 @@ import { TrackerRun } from "./tracker-client.js";
  */
 export async function trackTake(panel) {
   const { inputs, ui, plots } = panel;
-  const { recording, views } = inputs;
+  const recording = inputs.recording;
+  // The views as they are now: one added while this runs waits for the next track.
+  const views = [...inputs.tracked];
   const several = views.length > 1;
   if (!recording || views.some((v) => !v.video || !v.camera)) {
     throw new Error(several ? "open the BVH and each view's video and camera.json first" : "open a video, its BVH and a camera.json first");
@@ -139,7 +141,7 @@ async function showTrack(panel, done) {
   const { plots, inputs } = panel;
   panel.panes[0].outlines = done.outlines;
   const recording = { name: inputs.recording?.name ?? "the take", bytes: new TextEncoder().encode(done.files.recording_text) };
-  for (const [k, view] of inputs.views.entries()) {
+  for (const [k, view] of inputs.tracked.entries()) {
     if (k === 0 || !view.video || !view.camera) continue;
     panel.paneOf(k).outlines = await otherViewOutlines(recording, view);
   }
@@ -241,7 +243,7 @@ async function showInPlayer(panel, recording, camera, trackedHipsCm, series) {
  */
 export async function showFinishedTake(panel) {
   const { inputs, plots } = panel;
-  const { recording, track, views } = inputs;
+  const { recording, track, tracked: views } = inputs;
   const { video, camera } = views[0];
   if (!video || !recording || !camera || !track || views.some((v) => !v.video || !v.camera)) {
     throw new Error("open the tracked BVH, its track CSV, and each view's video and camera.json");

@@ -138,7 +138,9 @@ export class TrackerRun {
     this.worker.postMessage(m, transfer);
   }
 
+  /** Ends the worker; the run's reads and replies still awaited fail (one view's failure ends the others'). */
   terminate() {
+    this.cancel(new Error("the tracking ended"));
     this.worker.terminate();
   }
 }
