@@ -150,10 +150,11 @@ pub struct Tracker {
     scorer: Scorer,
     state: TrackerState,
     frames: Vec<TrackedFrame>,
-    /// With the path energies deferred: the last frame read (its index)
-    /// and its features, for a scorer beside the tracker in the same
-    /// process to score its request from ([`Tracker::take_path_work`]).
-    last_features: Option<(usize, Features)>,
+    /// With the path energies deferred: the features of the frame just
+    /// read (cleared as the next is read), for a scorer beside the tracker
+    /// in the same process to score its request from
+    /// ([`Tracker::take_path_work`]).
+    last_features: Option<Features>,
 }
 
 impl Tracker {
@@ -208,13 +209,9 @@ impl Tracker {
     /// is read once, not once for each (the page's second worker has no
     /// share in this one's memory, and reads it again).
     pub fn take_path_work(&mut self) -> Option<(PathRequest, Features)> {
+        // Both are made by the same push_frame, whenever deferred.
         let features = self.last_features.take();
-        let request = self.take_path_request()?;
-        match features {
-            Some((frame, features)) if frame == request.frame => Some((request, features)),
-            // Made in the same push_frame as the request: not reached.
-            _ => None,
-        }
+        Some((self.take_path_request()?, features?))
     }
 
     /// The energies of a [`PathRequest`]'s candidates, as
@@ -281,7 +278,7 @@ impl Tracker {
         if let TrackerState::Fused(fused) = state
             && fused.path().is_deferred()
         {
-            *last_features = Some((i, foreground));
+            *last_features = Some(foreground);
         }
         frames.push(TrackedFrame {
             foreground_share,

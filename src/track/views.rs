@@ -27,7 +27,7 @@ use crate::track::tracker::{Track, TrackedFrame};
 /// where it put the body, how sure it was and how well it saw, how its
 /// video is timed against the recording, and its warnings. Plain data, so
 /// that a view tracked in another Web Worker crosses to the first view's as
-/// it is (`web::camera_api::ViewSightingsJs`): the weighing is one code for
+/// it is (`web::camera_api::FinishedViewFrames`): the weighing is one code for
 /// the CLI and the page.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ViewSightings {

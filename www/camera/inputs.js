@@ -36,12 +36,14 @@ export function kindOf(file) {
  */
 export async function jsonKindOf(file) {
   try {
-    const parsed = JSON.parse(await file.text());
-    return parsed && typeof parsed === "object" && "squares_x" in parsed ? "boardLayout" : "camera";
+    return isBoardLayout(JSON.parse(await file.text())) ? "boardLayout" : "camera";
   } catch {
     return "json";
   }
 }
+
+/** Whether parsed JSON is a board's layout (it has `squares_x`) rather than a camera. @param {unknown} parsed */
+const isBoardLayout = (parsed) => Boolean(parsed) && typeof parsed === "object" && "squares_x" in /** @type {object} */ (parsed);
 
 /** A file's bytes as text, as the camera module reads a camera.json. @param {FileBytes} f */
 export const textOf = (f) => new TextDecoder().decode(f.bytes);
@@ -137,7 +139,7 @@ export class TakeInputs {
       } catch (e) {
         throw new Error(`${name}: not JSON (${e instanceof Error ? e.message : e})`);
       }
-      if (parsed && typeof parsed === "object" && "squares_x" in parsed) view.boardLayout = { name, bytes };
+      if (isBoardLayout(parsed)) view.boardLayout = { name, bytes };
       else view.camera = { name, bytes };
     } else if (kind === "recording" || kind === "truth" || kind === "track") {
       this[kind] = { name, bytes: await blob.arrayBuffer() };

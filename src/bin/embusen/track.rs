@@ -214,8 +214,9 @@ fn background(still: Option<&Path>, video: &Path, fps: Option<f64>) -> Result<Ba
 /// (not counting the decoding), and the warnings the tracking added.
 type JobRun = (TakeExport, f64, Vec<String>);
 
-/// Frames read ahead of the path scorer at most: each waits there whole
-/// (8 MB at 1080×1920 in f32), and the tracker gains nothing by running
+/// Frames read ahead of the path scorer at most: each frame's features
+/// wait there whole (23 MB at 1080×1920: two distance images in f32, the
+/// difference and two masks), and the tracker gains nothing by running
 /// further ahead of it.
 const FRAMES_AHEAD_OF_SCORER: usize = 4;
 
