@@ -924,7 +924,7 @@ fn a_track_thrown_off_by_the_suit_s_steps_finds_the_body_again() {
     let (recording, camera, background, frames, truth) = film(fps, 4.0, size, 0.0);
     let mut thrown = setup(&recording, camera, &background, &frames, fps);
     let from = thrown.suit.bvh_fps as usize;
-    for floor in thrown.suit.inertial_floor_cm.iter_mut().skip(from) {
+    for floor in std::sync::Arc::make_mut(&mut thrown.suit).inertial_floor_cm.iter_mut().skip(from) {
         *floor += DVec2::new(120.0, 0.0);
     }
     let across = camera.world_from_camera().transform_vector3(glam::DVec3::X);

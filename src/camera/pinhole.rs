@@ -183,6 +183,37 @@ impl Camera {
         ))
     }
 
+    /// The camera whose images are this one's shrunk `factor` times each
+    /// way ([`crate::image::GreyImage::shrunk`]): a pixel of it is a
+    /// `factor × factor` block of this one's, its centre at
+    /// `(x + ½) · factor − ½` here, so the focal lengths divide by `factor`
+    /// and the principal point moves to `(c + ½) / factor − ½`; the lens,
+    /// in the ideal image, is the same. Columns and rows that fill no block
+    /// are dropped. A factor of 1 (or 0) is this camera.
+    pub fn shrunk(&self, factor: u32) -> Camera {
+        let s = factor.max(1);
+        if s == 1 {
+            // Not through the arithmetic: (c + ½) / 1 − ½ may differ from c
+            // in its last bit.
+            return *self;
+        }
+        let k = self.intrinsics;
+        let f = s as f64;
+        Camera {
+            image_size: ImageSize {
+                width_px: self.image_size.width_px / s,
+                height_px: self.image_size.height_px / s,
+            },
+            intrinsics: Intrinsics {
+                fx_px: k.fx_px / f,
+                fy_px: k.fy_px / f,
+                cx_px: (k.cx_px + 0.5) / f - 0.5,
+                cy_px: (k.cy_px + 0.5) / f - 0.5,
+            },
+            ..*self
+        }
+    }
+
     /// Whether `pixel` lies on the image (pixel centres at whole numbers).
     pub fn sees_pixel(&self, pixel: DVec2) -> bool {
         let (w, h) = (self.image_size.width_px as f64, self.image_size.height_px as f64);
@@ -206,6 +237,21 @@ mod tests {
             intrinsics: Intrinsics { fx_px: 500.0, fy_px: 502.0, cx_px: 319.5, cy_px: 239.5 },
             distortion: Distortion { k1: -0.05, k2: 0.02, p1: -0.0003, p2: -0.0002, k3: 0.001 },
             camera_from_world: world_from_camera.inverse(),
+        }
+    }
+
+    #[test]
+    fn a_shrunk_camera_sees_a_point_in_the_block_it_fell_in() {
+        let camera = camera();
+        for factor in [1, 2, 3] {
+            let shrunk = camera.shrunk(factor);
+            assert_eq!(shrunk.image_size.width_px, 640 / factor);
+            for point in [DVec3::new(0.0, 0.0, 0.0), DVec3::new(80.0, 170.0, -120.0)] {
+                let full = camera.point_in_image(point).unwrap();
+                let small = shrunk.point_in_image(point).unwrap();
+                let expected = (full + 0.5) / factor as f64 - 0.5;
+                assert!((small - expected).length() < 1e-9, "{factor}: {small} ≠ {expected}");
+            }
         }
     }
 

@@ -94,6 +94,33 @@ impl GreyImage {
         Ok(GreyImage { width_px, height_px, pixels })
     }
 
+    /// The image shrunk `factor` times each way: each pixel the mean of a
+    /// `factor × factor` block, rounded half up (integers only, the same
+    /// bytes on every target); the last columns and rows that fill no
+    /// block are dropped, as [`crate::camera::Camera::shrunk`] drops them.
+    /// A factor of 1 (or 0) is a copy.
+    pub fn shrunk(&self, factor: u32) -> GreyImage {
+        let s = factor.max(1) as usize;
+        if s == 1 {
+            return self.clone();
+        }
+        let (w, h) = (self.width_px as usize, self.height_px as usize);
+        let (out_w, out_h) = (w / s, h / s);
+        let (area, half) = ((s * s) as u32, (s * s / 2) as u32);
+        let mut pixels = Vec::with_capacity(out_w * out_h);
+        let mut sums = vec![0u32; out_w];
+        for block_row in 0..out_h {
+            sums.fill(0);
+            for row in self.pixels[block_row * s * w..].chunks(w).take(s) {
+                for (sum, block) in sums.iter_mut().zip(row.chunks_exact(s)) {
+                    *sum += block.iter().map(|&v| v as u32).sum::<u32>();
+                }
+            }
+            pixels.extend(sums.iter().map(|&sum| ((sum + half) / area) as u8));
+        }
+        GreyImage { width_px: out_w as u32, height_px: out_h as u32, pixels }
+    }
+
     /// An image of one grey level.
     pub fn filled(width_px: u32, height_px: u32, level: u8) -> Self {
         GreyImage { width_px, height_px, pixels: vec![level; width_px as usize * height_px as usize] }
@@ -268,6 +295,22 @@ fn digest_of(width_px: u32, height_px: u32, bytes: impl Iterator<Item = u8>) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_shrunk_image_is_its_blocks_means_rounded_half_up() {
+        // 5×4 by 2: columns 0–3 and rows 0–3 fill blocks, column 4 is dropped.
+        let pixels: Vec<u8> = (0..20u8).map(|v| v * 10).collect();
+        let image = GreyImage::new(5, 4, pixels, "test").unwrap();
+        let shrunk = image.shrunk(2);
+        assert_eq!((shrunk.width_px, shrunk.height_px), (2, 2));
+        // (0 + 10 + 50 + 60) / 4 = 30; (20 + 30 + 70 + 80) / 4 = 50; …
+        assert_eq!(shrunk.pixels, [30, 50, 130, 150]);
+        let halves = GreyImage::new(2, 1, vec![1, 2], "test").unwrap().shrunk(2);
+        assert_eq!(halves.pixels.len(), 0);
+        let odd = GreyImage::new(2, 2, vec![0, 1, 1, 0], "test").unwrap().shrunk(2);
+        assert_eq!(odd.pixels, [1], "2 / 4 rounds half up");
+        assert_eq!(image.shrunk(1), image);
+    }
 
     #[test]
     fn a_wrong_pixel_count_is_an_error_naming_the_image() {

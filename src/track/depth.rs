@@ -58,7 +58,7 @@ pub fn correct_depth(
     for _ in 0..2 {
         let sightings: Vec<(usize, SoleSighting)> = views
             .iter()
-            .filter_map(|(i, view)| track.get(*i).and_then(|&p| view.sight(camera, p)).map(|s| (*i, s)))
+            .filter_map(|(i, view)| track.get(*i).and_then(|&p| view.sight(p)).map(|s| (*i, s)))
             .collect();
         let mut frames: Vec<usize> = sightings.iter().map(|(i, _)| *i).collect();
         frames.dedup();

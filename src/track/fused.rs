@@ -50,6 +50,7 @@ use crate::track::smoother::Measurement;
 use crate::track::smoother::frames_per_error;
 use crate::track::soles::{Foot, PLANTED_CM, SoleView, feet_of, is_planted, view_soles};
 use crate::track::suit_motion::{BvhInstant, SuitMotion};
+use crate::track::working_scale::working_scale;
 
 /// embusen's tracker's parameters; each has its physical reason.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -155,10 +156,13 @@ pub struct FusedPrediction {
     /// The suit's step into this frame and its uncertainty (cm, one σ).
     step_cm: DVec2,
     step_sigma_cm: f64,
-    /// How far the frame's distance transforms are needed (px): the energy
-    /// reads them only up to its truncation, so they are computed only so
-    /// far, near the foreground (the same values).
+    /// How far the frame's distance transforms are needed (px at the
+    /// working scale): the energy reads them only up to its truncation, so
+    /// they are computed only so far, near the foreground (the same values).
     pub truncate_px: Option<f32>,
+    /// How many times each way the frame is shrunk before it is read
+    /// ([`working_scale`]): 1 where nothing says where the body is.
+    pub working_scale: u32,
 }
 
 /// What the search and the filter made of a frame.
@@ -286,6 +290,7 @@ impl FusedTracker {
                 step_cm,
                 step_sigma_cm: f64::INFINITY,
                 truncate_px: pipeline_truncate_px,
+                working_scale: 1,
             };
         };
         let before_cm = Some(filter.current().0);
@@ -295,20 +300,23 @@ impl FusedTracker {
         let lost = filter.is_lost();
         let spread = largest_sigma_cm(covariance);
         let radius_cm = (params.search_sigmas * spread).clamp(params.min_search_cm, params.max_search_cm);
-        let (truncation_px, _) = fused_truncation_px(&setup.camera, params, predicted);
+        // Lost, the body may be anywhere: the frame read whole, its
+        // features as the first frame's.
+        let (_, depth_cm) = fused_truncation_px(&setup.camera, params, predicted);
+        let scale = if lost { 1 } else { working_scale(&setup.camera, depth_cm) };
+        let (truncation_px, _) = fused_truncation_px(&setup.camera.shrunk(scale), params, predicted);
         FusedPrediction {
             predicted: Some((predicted, radius_cm)),
             lost,
             before_cm,
             step_cm,
             step_sigma_cm,
-            // Lost, the body may be anywhere: the features as the first
-            // frame's.
             truncate_px: if lost {
                 pipeline_truncate_px
             } else {
                 Some(pipeline_truncate_px.map_or(truncation_px, |t| t.min(truncation_px)))
             },
+            working_scale: scale,
         }
     }
 
@@ -637,6 +645,7 @@ impl<'a> FrameScoring<'a> {
                 frame: i,
                 prediction_cm: measured.prediction_cm,
                 truncate_px: prediction.truncate_px,
+                working_scale: prediction.working_scale,
                 candidates_cm: candidates_cm.clone(),
             });
             Vec::new()

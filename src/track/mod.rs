@@ -1,6 +1,7 @@
 //! The camera trackers: where the actor is on the floor, from one calibrated
 //! camera filming the suit's pose. [`tracker`] runs one of two over a
-//! video, each frame's features computed once ([`setup`]): Riečický et
+//! video, each frame's features computed once ([`setup`]) at the scale the
+//! measurement needs ([`working_scale`]): Riečický et
 //! al.'s as published ([`riecicky`]) or embusen's ([`fused`]: the contact
 //! method's floor path predicts, [`smoother`] weighs it against the camera,
 //! [`path`] searches the whole path along the lines of sight,
@@ -30,3 +31,4 @@ pub mod suit_motion;
 pub mod take;
 pub mod tracker;
 pub mod views;
+pub mod working_scale;

@@ -119,6 +119,9 @@ pub struct PathRequest {
     pub prediction_cm: DVec2,
     /// The cap of the distance transforms the frame's features had.
     pub truncate_px: Option<f32>,
+    /// How many times each way the frame was shrunk before it was read
+    /// (`track::working_scale`).
+    pub working_scale: u32,
     /// Where to score (x, z, cm).
     pub candidates_cm: Vec<DVec2>,
 }

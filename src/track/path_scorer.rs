@@ -8,31 +8,33 @@ use glam::DVec2;
 use crate::error::Error;
 use crate::image::GreyImage;
 use crate::image::pipeline::Features;
-use crate::track::energy::Scorer;
 use crate::track::fused::{FrameScoring, FusedParams, line_of_sight};
 use crate::track::path::PathRequest;
 use crate::track::setup::TrackSetup;
+use crate::track::working_scale::{WorkingScales, shrunk_frame};
 
 /// Scores [`PathRequest`]s apart from the tracker, from the same frames:
 /// what the tracker would have computed, to the last bit. And, for
 /// evaluations, the camera's best near a known truth.
 pub struct PathScorer {
-    setup: TrackSetup,
+    /// The take at each working scale a request was made at.
+    scales: WorkingScales,
     params: FusedParams,
-    scorer: Scorer,
 }
 
 impl PathScorer {
     /// Scores with the fused tracker's `params`.
     pub fn new(setup: TrackSetup, params: FusedParams) -> PathScorer {
-        PathScorer { scorer: Scorer::new(&setup.camera), params, setup }
+        PathScorer { scales: WorkingScales::new(setup), params }
     }
 
     /// The fused energy (px) at each of `request`'s candidates in `frame`,
     /// video frame `request.frame`; NaN where the body is not in the image.
     pub fn energies(&mut self, request: &PathRequest, frame: &GreyImage) -> Result<Vec<f64>, Error> {
         let label = format!("video frame {}", request.frame);
-        let features = self.setup.features(frame, request.truncate_px, &label)?;
+        let (setup, _) = self.scales.at(request.working_scale);
+        let frame = shrunk_frame(frame, request.working_scale);
+        let features = setup.features(&frame, request.truncate_px, &label)?;
         self.energies_with(request, &features)
     }
 
@@ -40,12 +42,12 @@ impl PathScorer {
     /// made them ([`crate::track::tracker::Tracker::take_path_work`]).
     pub fn energies_with(&mut self, request: &PathRequest, features: &Features) -> Result<Vec<f64>, Error> {
         let label = format!("video frame {}", request.frame);
-        let setup = &self.setup;
+        let (setup, scorer) = self.scales.at(request.working_scale);
         let Some(body) = setup.posed_body(request.frame)? else {
             return Err(Error::whole(&label, "no pose in the BVH here: no path to score"));
         };
         let mut scoring =
-            FrameScoring::new(setup, &self.params, &mut self.scorer, &body, features, request.prediction_cm);
+            FrameScoring::new(setup, &self.params, scorer, &body, features, request.prediction_cm);
         Ok(request.candidates_cm.iter().map(|&p| scoring.energy(p)).collect())
     }
 
@@ -63,12 +65,11 @@ impl PathScorer {
         reach_cm: f64,
     ) -> Result<Option<DVec2>, Error> {
         let label = format!("video frame {i}");
-        let setup = &self.setup;
+        let (setup, scorer) = self.scales.at(1);
         setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
         let Some(body) = setup.posed_body(i)? else { return Ok(None) };
         let features = setup.features(frame, setup.pipeline.truncate_px, &label)?;
-        let mut scoring =
-            FrameScoring::new(setup, &self.params, &mut self.scorer, &body, &features, around_cm);
+        let mut scoring = FrameScoring::new(setup, &self.params, scorer, &body, &features, around_cm);
         let along = line_of_sight(&setup.camera, around_cm);
         let steps = (reach_cm / 2.0).ceil() as i32;
         let mut best: Option<(DVec2, f64)> = None;

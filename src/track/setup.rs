@@ -3,6 +3,8 @@
 //! and the empty room; and the one way a video frame becomes the features
 //! the trackers match a body against.
 
+use std::sync::Arc;
+
 use glam::{DVec2, DVec3};
 
 use crate::body::shape::{BodyShape, PosedBody};
@@ -28,7 +30,9 @@ pub fn posed_body(
 #[derive(Clone, Debug)]
 pub struct TrackSetup {
     pub camera: Camera,
-    pub suit: SuitMotion,
+    /// Shared with the same take at its other working scales
+    /// ([`TrackSetup::shrunk`]).
+    pub suit: Arc<SuitMotion>,
     pub shape: BodyShape,
     pub timing: VideoTiming,
     pub background: GreyImage,
@@ -56,6 +60,19 @@ impl TrackSetup {
         self.camera.check_image_size(frame.width_px, frame.height_px, label)?;
         let params = PipelineParams { truncate_px, ..self.pipeline };
         features(frame, &self.background, &params, label)
+    }
+
+    /// The same take worked on at `factor`
+    /// ([`crate::track::working_scale::working_scale`]): its camera
+    /// and its background shrunk `factor` times each way
+    /// ([`Camera::shrunk`], [`GreyImage::shrunk`]), for frames shrunk as
+    /// much. A factor of 1 is a copy.
+    pub fn shrunk(&self, factor: u32) -> TrackSetup {
+        TrackSetup {
+            camera: self.camera.shrunk(factor),
+            background: self.background.shrunk(factor),
+            ..self.clone()
+        }
     }
 
     /// `frame`'s features as Riečický et al. make them: the still

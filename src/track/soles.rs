@@ -125,6 +125,10 @@ struct SoleSphere {
 /// would look for the sole in the wrong rows and confirm the error.)
 #[derive(Clone, Debug, PartialEq)]
 pub struct SoleView {
+    /// The camera the foreground was seen through: the take's, or the
+    /// smaller one of the working scale the frame was read at
+    /// ([`crate::camera::Camera::shrunk`]).
+    camera: Camera,
     sole: Vec<SoleSphere>,
     /// The first image column kept.
     first_column: i64,
@@ -182,7 +186,7 @@ pub fn view_soles(
         if runs.iter().all(Vec::is_empty) {
             continue;
         }
-        views.push(SoleView { sole, first_column: first, runs });
+        views.push(SoleView { camera: *camera, sole, first_column: first, runs });
     }
     views
 }
@@ -193,7 +197,8 @@ impl SoleView {
     /// foreground row within [`REACH_CM`] of where its edge would be;
     /// `None` when fewer than half its columns have foreground there or
     /// the columns were not kept.
-    pub fn sight(&self, camera: &Camera, hips_cm: DVec2) -> Option<SoleSighting> {
+    pub fn sight(&self, hips_cm: DVec2) -> Option<SoleSighting> {
+        let camera = &self.camera;
         let edge = sole_edge(camera, &self.sole, hips_cm)?;
         let (top, bottom) = edge.rows_reached(camera, REACH_CM)?;
         let first = (edge.pixel.x - edge.half_width_px).round() as i64;
@@ -488,7 +493,7 @@ pub(crate) mod tests {
         let off = truth + DVec2::new(0.0, 30.0);
         let views = view_soles(&camera, &feet, &body, &mask, off);
         assert_eq!(views.len(), 1);
-        let sighting = views[0].sight(&camera, off).unwrap();
+        let sighting = views[0].sight(off).unwrap();
         let along_error = (sighting.implied_hips_cm - truth).dot(sighting.along);
         // Within the floor's depth of one image row (3.3 cm here): the
         // mask's pixel centres sample the edge.

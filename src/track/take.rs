@@ -67,8 +67,14 @@ impl Take {
             ));
         }
         let shape = body_shape_of(&recording)?;
-        let setup =
-            TrackSetup { camera, suit, shape, timing, background, pipeline: PipelineParams::default() };
+        let setup = TrackSetup {
+            camera,
+            suit: suit.into(),
+            shape,
+            timing,
+            background,
+            pipeline: PipelineParams::default(),
+        };
         Ok(Take { recording, setup, method, warnings })
     }
 

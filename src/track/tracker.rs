@@ -14,11 +14,11 @@ use glam::{DMat2, DVec2, DVec3};
 use crate::error::Error;
 use crate::image::GreyImage;
 use crate::image::pipeline::Features;
-use crate::track::energy::Scorer;
 use crate::track::fused::{FusedParams, FusedTracker, SmoothedFrame};
 use crate::track::path::PathRequest;
 use crate::track::riecicky::{RiecickyParams, RiecickyTracker};
 use crate::track::setup::{FrameEstimate, TrackSetup};
+use crate::track::working_scale::{WorkingScales, shrunk_frame};
 
 /// Which tracker, with its parameters. On the command line (`--method`)
 /// and in the page it is named `paper` or `fused`, with the defaults.
@@ -147,7 +147,9 @@ enum TrackerState {
 /// The tracker in the middle of a video.
 pub struct Tracker {
     setup: TrackSetup,
-    scorer: Scorer,
+    /// The take at each working scale frames were read at, with their
+    /// scorers (the paper's tracker reads every frame whole).
+    scales: WorkingScales,
     state: TrackerState,
     frames: Vec<TrackedFrame>,
     /// With the path energies deferred: the features of the frame just
@@ -171,7 +173,7 @@ impl Tracker {
             TrackMethod::Fused(params) => TrackerState::Fused(Box::new(FusedTracker::new(params))),
         };
         Ok(Tracker {
-            scorer: Scorer::new(&setup.camera),
+            scales: WorkingScales::new(setup.clone()),
             setup,
             state,
             frames: Vec::new(),
@@ -244,7 +246,7 @@ impl Tracker {
     pub fn push_frame(&mut self, frame: &GreyImage) -> Result<&TrackedFrame, Error> {
         let i = self.frames.len();
         let label = format!("video frame {i}");
-        let Tracker { setup, scorer, state, frames, last_features } = self;
+        let Tracker { setup, scales, state, frames, last_features } = self;
         *last_features = None;
         setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
         let time_s = i as f64 / setup.timing.fps;
@@ -264,12 +266,14 @@ impl Tracker {
         let (estimate, foreground) = match state {
             TrackerState::Paper(paper) => {
                 let features = setup.published_features(frame, &label)?;
-                (paper.frame(scorer, &body, &features), features)
+                (paper.frame(scales.at(1).1, &body, &features), features)
             }
             TrackerState::Fused(fused) => {
                 let prediction = fused.predict(setup, instant, i);
-                let features = setup.features(frame, prediction.truncate_px, &label)?;
-                (fused.frame(setup, scorer, &body, &features, &prediction, i), features)
+                let (scaled, scorer) = scales.at(prediction.working_scale);
+                let frame = shrunk_frame(frame, prediction.working_scale);
+                let features = scaled.features(&frame, prediction.truncate_px, &label)?;
+                (fused.frame(scaled, scorer, &body, &features, &prediction, i), features)
             }
         };
         let mask = &foreground.foreground;

@@ -242,6 +242,8 @@ pub struct PathWork {
     pub prediction: FloorPoint,
     /// The cap of the frame's distance transforms (px); `null`: none.
     pub truncate_px: Option<f32>,
+    /// How many times each way the frame is shrunk before it is read.
+    pub working_scale: u32,
     pub candidates: Vec<FloorPoint>,
 }
 
@@ -251,6 +253,7 @@ impl PathWork {
             frame: r.frame,
             prediction: r.prediction_cm.into(),
             truncate_px: r.truncate_px,
+            working_scale: r.working_scale,
             candidates: r.candidates_cm.into_iter().map(FloorPoint::from).collect(),
         }
     }
@@ -264,6 +267,7 @@ impl PathWork {
             frame: work.frame,
             prediction_cm: work.prediction.into(),
             truncate_px: work.truncate_px,
+            working_scale: work.working_scale,
             candidates_cm: work.candidates.into_iter().map(DVec2::from).collect(),
         })
     }

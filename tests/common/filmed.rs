@@ -106,7 +106,7 @@ pub fn setup(
         BodyShape::standard(&recording.joint_names, &recording.parents, recording.poses.frame(0)).unwrap();
     TrackSetup {
         camera,
-        suit,
+        suit: suit.into(),
         shape,
         timing: VideoTiming { fps, frame_count: frames.len(), offset_s: 0.0 },
         background: background.clone(),
