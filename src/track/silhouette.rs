@@ -76,33 +76,18 @@ pub struct Silhouette {
     pub spans: Vec<Span>,
     /// Spheres and cones not drawn because they reach the camera's plane.
     pub skipped: usize,
-    /// The rasterised polygons' box (holds `bounds`, may be a pixel wider).
-    mask_box: PixelBox,
-    /// `mask_box`'s pixels, row by row: 1 covered, 0 not.
-    mask: Vec<u8>,
 }
 
 impl Silhouette {
     /// Nothing covered, in an image of `image_size`.
     pub fn empty(image_size: ImageSize) -> Silhouette {
-        Silhouette {
-            image_size,
-            bounds: PixelBox::default(),
-            spans: Vec::new(),
-            skipped: 0,
-            mask_box: PixelBox::default(),
-            mask: Vec::new(),
-        }
+        Silhouette { image_size, bounds: PixelBox::default(), spans: Vec::new(), skipped: 0 }
     }
 
     /// Whether pixel `(x, y)` is covered.
     pub fn contains(&self, x: u32, y: u32) -> bool {
-        let b = &self.mask_box;
-        x >= b.left
-            && x < b.right
-            && y >= b.top
-            && y < b.bottom
-            && self.mask[((y - b.top) * b.width() + (x - b.left)) as usize] != 0
+        let first = self.spans.partition_point(|s| (s.row, s.end) <= (y, x));
+        self.spans.get(first).is_some_and(|s| s.row == y && s.start <= x)
     }
 
     /// The number of covered pixels.
@@ -203,6 +188,9 @@ pub struct SilhouetteRenderer {
     clip: Vec<DVec2>,
     clip_spare: Vec<DVec2>,
     rows: Vec<(f64, f64)>,
+    /// Per row of the polygons' box, the column ranges each polygon
+    /// covers there, merged into spans once all are in.
+    row_ranges: Vec<Vec<(u32, u32)>>,
 }
 
 impl SilhouetteRenderer {
@@ -255,6 +243,7 @@ impl SilhouetteRenderer {
             clip: Vec::new(),
             clip_spare: Vec::new(),
             rows: Vec::new(),
+            row_ranges: Vec::new(),
         }
     }
 
@@ -385,7 +374,10 @@ impl SilhouetteRenderer {
         self.camera.intrinsics.pixel(self.camera.distortion.distort(ideal))
     }
 
-    /// Fills the stored polygons into `out`'s mask over their bounding box.
+    /// Fills the stored polygons into `out`'s spans: each polygon's column
+    /// range per row, merged per row where they overlap or touch (what
+    /// filling a mask and reading its runs would give, without touching
+    /// every pixel).
     fn fill(&mut self, out: &mut Silhouette) {
         let (w, h) = (self.camera.image_size.width_px, self.camera.image_size.height_px);
         let mut lo = DVec2::splat(f64::INFINITY);
@@ -404,35 +396,41 @@ impl SilhouetteRenderer {
             bottom: first(hi.y, h),
         };
         let bounds = if bounds.is_empty() { PixelBox::default() } else { bounds };
-        let (bw, bh) = (bounds.width() as usize, bounds.height() as usize);
-        out.mask_box = bounds;
-        out.mask.clear();
-        out.mask.resize(bw * bh, 0);
+        let bh = bounds.height() as usize;
         self.rows.clear();
         self.rows.resize(bh, (f64::INFINITY, f64::NEG_INFINITY));
-        for &(start, end) in &self.polygons {
-            fill_convex(&self.polygon_points[start..end], bounds, &mut self.rows, &mut out.mask);
+        if self.row_ranges.len() < bh {
+            self.row_ranges.resize_with(bh, Vec::new);
         }
-        find_spans(out);
+        for &(start, end) in &self.polygons {
+            fill_convex(&self.polygon_points[start..end], bounds, &mut self.rows, &mut self.row_ranges);
+        }
+        merge_spans(&mut self.row_ranges[..bh], bounds.top, out);
     }
 }
 
-/// `out`'s spans and tight bounds, from its mask.
-fn find_spans(out: &mut Silhouette) {
+/// `out`'s spans and tight bounds from the column ranges of each row
+/// (`row_ranges[k]` those of image row `top + k`, emptied here): per row,
+/// ranges that overlap or touch are one span.
+fn merge_spans(row_ranges: &mut [Vec<(u32, u32)>], top: u32, out: &mut Silhouette) {
     out.spans.clear();
-    let b = out.mask_box;
-    let width = b.width() as usize;
     let (mut left, mut right) = (u32::MAX, 0);
-    for (line, row) in out.mask.chunks_exact(width.max(1)).zip(b.top..) {
-        let mut x = 0;
-        while let Some(skip) = line[x..].iter().position(|&m| m != 0) {
-            let start = x + skip;
-            let run = line[start..].iter().position(|&m| m == 0).unwrap_or(line.len() - start);
-            x = start + run;
-            out.spans.push(Span { row, start: b.left + start as u32, end: b.left + x as u32 });
-            left = left.min(b.left + start as u32);
-            right = right.max(b.left + x as u32);
+    for (ranges, row) in row_ranges.iter_mut().zip(top..) {
+        ranges.sort_unstable();
+        let mut ranges = ranges.drain(..);
+        let Some(mut span) = ranges.next() else { continue };
+        // Sorted: the row's first range starts leftmost.
+        left = left.min(span.0);
+        for (start, end) in ranges {
+            if start <= span.1 {
+                span.1 = span.1.max(end);
+            } else {
+                out.spans.push(Span { row, start: span.0, end: span.1 });
+                span = (start, end);
+            }
         }
+        out.spans.push(Span { row, start: span.0, end: span.1 });
+        right = right.max(span.1);
     }
     out.bounds = match (out.spans.first(), out.spans.last()) {
         (Some(first), Some(last)) => PixelBox { left, top: first.row, right, bottom: last.row + 1 },
@@ -440,13 +438,18 @@ fn find_spans(out: &mut Silhouette) {
     };
 }
 
-/// Fills the pixels whose centres lie in the convex polygon `points`
-/// (pixels) into `mask`, which covers `bounds`; `rows` is scratch of
-/// `bounds.height()` entries, left as `(∞, −∞)`. Each edge gives the
-/// crossing of every row it spans, `top ≤ v < bottom` (so a row through a
-/// vertex is counted once), and each row is filled between its leftmost and
-/// rightmost crossing, `left ≤ u < right`.
-fn fill_convex(points: &[DVec2], bounds: PixelBox, rows: &mut [(f64, f64)], mask: &mut [u8]) {
+/// The pixels whose centres lie in the convex polygon `points` (pixels),
+/// as a column range per row pushed onto `row_ranges` (row `bounds.top + k`
+/// at `k`); `rows` is scratch of `bounds.height()` entries, left as
+/// `(∞, −∞)`. Each edge gives the crossing of every row it spans,
+/// `top ≤ v < bottom` (so a row through a vertex is counted once), and each
+/// row covers from its leftmost to its rightmost crossing, `left ≤ u < right`.
+fn fill_convex(
+    points: &[DVec2],
+    bounds: PixelBox,
+    rows: &mut [(f64, f64)],
+    row_ranges: &mut [Vec<(u32, u32)>],
+) {
     let (top, bottom) = (bounds.top as f64, bounds.bottom as f64);
     let mut used = (usize::MAX, 0);
     for (i, &p) in points.iter().enumerate() {
@@ -473,15 +476,13 @@ fn fill_convex(points: &[DVec2], bounds: PixelBox, rows: &mut [(f64, f64)], mask
         return;
     }
     let (left, right) = (bounds.left as f64, bounds.right as f64);
-    let width = bounds.width() as usize;
-    for (k, row) in rows[used.0..used.1].iter_mut().enumerate() {
+    for (row, ranges) in rows[used.0..used.1].iter_mut().zip(&mut row_ranges[used.0..used.1]) {
         let (x0, x1) = *row;
         *row = (f64::INFINITY, f64::NEG_INFINITY);
         let start = ceil(x0).max(left);
         let end = ceil(x1).min(right);
         if start < end {
-            let line = (used.0 + k) * width;
-            mask[line + (start - left) as usize..line + (end - left) as usize].fill(1);
+            ranges.push((start as u32, end as u32));
         }
     }
 }
