@@ -393,18 +393,11 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
     output_folder_exists(&args.output)?;
     let views = views_of(args)?;
     let recording = read_recording(&args.bvh)?;
-    let mut jobs = Vec::with_capacity(views.len());
-    for (k, view) in views.iter().enumerate() {
-        if views.len() > 1 {
-            println!("view {}: {}", k + 1, view.video.display());
-        }
-        let said = if views.len() > 1 {
-            format!("view {} ({}): ", k + 1, view.video.display())
-        } else {
-            String::new()
-        };
-        jobs.push(track_view(view, &recording, args, &said)?);
-    }
+    let mut jobs = if let [view] = views.as_slice() {
+        vec![track_view(view, &recording, args, "", true)?]
+    } else {
+        track_views_at_once(&views, &recording, args)?
+    };
     let ms_per_frame: f64 = jobs.iter().map(|(_, _, ms)| ms).sum();
     let views_said = if jobs.len() > 1 { format!(" by {} cameras", jobs.len()) } else { String::new() };
     let others = jobs.iter().skip(1).map(|(job, _, _)| job.finished_view()).collect::<Result<Vec<_>, _>>()?;
@@ -440,14 +433,50 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
     Ok(())
 }
 
+/// Several views of one take, each tracked on its own thread (beside its
+/// own path scorer): the views are independent until they are weighed, so
+/// a take filmed by two cameras takes about as long as the longer of them
+/// wherever there are cores for both. No progress bars (they would
+/// overwrite each other); what each view says names it.
+fn track_views_at_once(
+    views: &[ViewArgs],
+    recording: &Recording,
+    args: &TrackArgs,
+) -> Result<Vec<(TrackingJob, TakeExport, f64)>, Error> {
+    for (k, view) in views.iter().enumerate() {
+        println!("view {}: {}", k + 1, view.video.display());
+    }
+    std::thread::scope(|scope| {
+        let running: Vec<_> = views
+            .iter()
+            .enumerate()
+            .map(|(k, view)| {
+                let said = format!("view {} ({}): ", k + 1, view.video.display());
+                scope.spawn(move || track_view(view, recording, args, &said, false))
+            })
+            .collect();
+        running
+            .into_iter()
+            .zip(views)
+            .map(|(thread, view)| {
+                thread.join().unwrap_or_else(|_| {
+                    Err(Error::whole(&view.video.display().to_string(), "its tracking thread failed"))
+                })
+            })
+            .collect()
+    })
+}
+
 /// One view tracked to the end (its offset estimated again and tracked at
 /// it, when asked): its job, what it alone writes, its ms a frame. What it
-/// says begins with `said` (which view, when there are several).
+/// says begins with `said` (which view, when there are several); a
+/// progress bar with `progress`.
 fn track_view(
     view: &ViewArgs,
     recording: &Recording,
     args: &TrackArgs,
     said: &str,
+    progress: bool,
 ) -> Result<(TrackingJob, TakeExport, f64), Error> {
     let camera = match (view.camera, view.board) {
         (Some(path), _) => read_camera(path)?,
@@ -472,7 +501,7 @@ fn track_view(
     if args.estimate_offset {
         job.keep_offset_samples();
     }
-    let (mut export, mut ms_per_frame, mut warnings) = run_job(&mut job, &mut frames, true)?;
+    let (mut export, mut ms_per_frame, mut warnings) = run_job(&mut job, &mut frames, progress)?;
     if args.estimate_offset {
         match job.estimate_offset()? {
             Some(estimate) => {
@@ -483,7 +512,7 @@ fn track_view(
                 if let Some(again) = job.retrack_at(&estimate)? {
                     job = again;
                     let mut frames = Frames::open(view.video, args.fps)?;
-                    (export, ms_per_frame, warnings) = run_job(&mut job, &mut frames, true)?;
+                    (export, ms_per_frame, warnings) = run_job(&mut job, &mut frames, progress)?;
                 }
             }
             None => {
