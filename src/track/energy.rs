@@ -35,16 +35,22 @@ pub struct FrameTerms<'a> {
     height_px: u32,
     /// Distance to the nearest edge (px), untruncated.
     edge_distance_px: &'a [f32],
-    /// The rows `prefix_top..prefix_top + prefix_rows` hold all the
-    /// foreground and every distance outside it below the truncation; in
-    /// every other row the truncated distance is the truncation itself and
-    /// nothing is foreground, so a span there costs a multiplication (and,
-    /// the truncation being an f32, exactly what a sum of its pixels would).
+    /// The rows `prefix_top..prefix_top + prefix_rows` and the columns
+    /// `prefix_left..prefix_right` hold all the foreground and every
+    /// distance outside it below the truncation; in every other pixel the
+    /// truncated distance is the truncation itself and nothing is
+    /// foreground, so a span there costs a multiplication. Exactly what a
+    /// sum of its pixels would: each distance is 0 or an f32 of at least 1
+    /// below 2⁷, a multiple of 2⁻²³, so every sum of a row's (under 2²⁰)
+    /// is exact in an f64, in any order.
     prefix_top: usize,
     prefix_rows: usize,
+    prefix_left: usize,
+    prefix_right: usize,
     /// Per row of those, the prefix sums of the truncated distance outside
-    /// the foreground: `outside_prefix[(y − prefix_top) * (w + 1) + x]` sums
-    /// columns `0..x` of row `y`, so a span costs one subtraction.
+    /// the foreground: `outside_prefix[(y − prefix_top) * (c + 1) + k]`
+    /// sums columns `0..prefix_left + k` of row `y` (`c` columns kept), so
+    /// a span costs one subtraction.
     outside_prefix: Vec<f64>,
     /// Per row of those, the prefix counts of foreground pixels, likewise.
     foreground_prefix: Vec<u32>,
@@ -96,16 +102,33 @@ impl<'a> FrameTerms<'a> {
             (Some(top), Some(bottom)) => (top, bottom + 1 - top),
             _ => (0, 0),
         };
-        let mut outside_prefix = vec![0.0; (w + 1) * prefix_rows];
-        let mut foreground_prefix = vec![0u32; (w + 1) * prefix_rows];
+        let near_at = |i: usize| outside_distance.distance_px[i] < truncation_px || foreground.on[i];
+        let (mut prefix_left, mut prefix_right) = (w, 0);
+        for y in prefix_top..prefix_top + prefix_rows {
+            let row = y * w;
+            if let Some(x) = (0..prefix_left).find(|&x| near_at(row + x)) {
+                prefix_left = x;
+            }
+            if let Some(x) = (prefix_right.max(prefix_left)..w).rev().find(|&x| near_at(row + x)) {
+                prefix_right = x + 1;
+            }
+        }
+        let prefix_right = prefix_right.max(prefix_left).min(w);
+        let prefix_left = prefix_left.min(prefix_right);
+        let columns = prefix_right - prefix_left;
+        let mut outside_prefix = vec![0.0; (columns + 1) * prefix_rows];
+        let mut foreground_prefix = vec![0u32; (columns + 1) * prefix_rows];
+        let before = prefix_left as f64 * truncation_px as f64;
         for k in 0..prefix_rows {
             let y = prefix_top + k;
-            let (row, prefix) = (&outside_distance.distance_px[y * w..(y + 1) * w], k * (w + 1));
-            for x in 0..w {
+            let row = &outside_distance.distance_px[y * w + prefix_left..y * w + prefix_right];
+            let on = &foreground.on[y * w + prefix_left..y * w + prefix_right];
+            let prefix = k * (columns + 1);
+            outside_prefix[prefix] = before;
+            for x in 0..columns {
                 outside_prefix[prefix + x + 1] =
                     outside_prefix[prefix + x] + row[x].min(truncation_px) as f64;
-                foreground_prefix[prefix + x + 1] =
-                    foreground_prefix[prefix + x] + foreground.on[y * w + x] as u32;
+                foreground_prefix[prefix + x + 1] = foreground_prefix[prefix + x] + on[x] as u32;
             }
         }
         FrameTerms {
@@ -114,6 +137,8 @@ impl<'a> FrameTerms<'a> {
             edge_distance_px: &edge_distance.distance_px,
             prefix_top,
             prefix_rows,
+            prefix_left,
+            prefix_right,
             outside_prefix,
             foreground_prefix,
             truncation_px,
@@ -123,7 +148,23 @@ impl<'a> FrameTerms<'a> {
     /// The index of row `row`'s prefix sums, `None` for a row beyond them.
     fn prefix_row(&self, row: u32) -> Option<usize> {
         let k = (row as usize).checked_sub(self.prefix_top)?;
-        (k < self.prefix_rows).then(|| k * (self.width_px as usize + 1))
+        (k < self.prefix_rows).then(|| k * (self.prefix_right - self.prefix_left + 1))
+    }
+
+    /// Of the row whose prefix sums start at `row` ([`FrameTerms::prefix_row`]),
+    /// the truncated distance outside the foreground summed over columns
+    /// `0..x`, and the foreground pixels there.
+    fn sums_to(&self, row: usize, x: u32) -> (f64, u32) {
+        let (x, left, right) = (x as usize, self.prefix_left, self.prefix_right);
+        let truncation = self.truncation_px as f64;
+        if x <= left {
+            (x as f64 * truncation, 0)
+        } else if x < right {
+            (self.outside_prefix[row + x - left], self.foreground_prefix[row + x - left])
+        } else {
+            let last = row + right - left;
+            (self.outside_prefix[last] + (x - right) as f64 * truncation, self.foreground_prefix[last])
+        }
     }
 
     /// How `silhouette` fits; `None` when it covers no pixel of the image.
@@ -148,10 +189,7 @@ impl<'a> FrameTerms<'a> {
         let mut outside = 0.0f64;
         for span in &silhouette.spans {
             outside += match self.prefix_row(span.row) {
-                Some(row) => {
-                    self.outside_prefix[row + span.end as usize]
-                        - self.outside_prefix[row + span.start as usize]
-                }
+                Some(row) => self.sums_to(row, span.end).0 - self.sums_to(row, span.start).0,
                 None => (span.end - span.start) as f64 * self.truncation_px as f64,
             };
         }
@@ -197,8 +235,7 @@ impl<'a> FrameTerms<'a> {
         let (mut on, mut area) = (0u64, 0u64);
         for span in &silhouette.spans {
             if let Some(row) = self.prefix_row(span.row) {
-                on += (self.foreground_prefix[row + span.end as usize]
-                    - self.foreground_prefix[row + span.start as usize]) as u64;
+                on += (self.sums_to(row, span.end).1 - self.sums_to(row, span.start).1) as u64;
             }
             area += (span.end - span.start) as u64;
         }
@@ -274,5 +311,63 @@ impl SilhouetteFit {
     /// contour's share on edges and the area's share on the foreground.
     pub fn confidence(&self) -> f64 {
         (self.near_edge_share * self.on_foreground_share).sqrt()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::ImageSize;
+    use crate::image::PixelBox;
+    use crate::track::silhouette::Span;
+
+    /// Spans reaching past the columns and rows the prefix sums keep, on
+    /// either side, sum to what their pixels one by one do, to the bit.
+    #[test]
+    fn spans_beyond_the_kept_pixels_sum_as_their_pixels_do() {
+        let (w, h) = (12u32, 5u32);
+        let truncation_px = 2.5f32;
+        // Near the foreground (columns 4–7 of rows 1–3) the distances are
+        // below the truncation; elsewhere above it.
+        let distance_px: Vec<f32> = (0..w * h)
+            .map(|i| {
+                let (x, y) = (i % w, i / w);
+                if (4..8).contains(&x) && (1..4).contains(&y) {
+                    [0.0, 1.0, 2f32.sqrt(), 5f32.sqrt()][x as usize % 4]
+                } else {
+                    7.0
+                }
+            })
+            .collect();
+        let on: Vec<bool> = (0..w * h).map(|i| distance_px[i as usize] == 0.0).collect();
+        let outside = DistanceImage { width_px: w, height_px: h, distance_px };
+        let foreground = Mask { width_px: w, height_px: h, on };
+        let terms = FrameTerms::new(&outside, &outside, &foreground, truncation_px);
+        let spans = vec![
+            Span { row: 0, start: 1, end: 11 },
+            Span { row: 1, start: 0, end: 5 },
+            Span { row: 1, start: 6, end: 12 },
+            Span { row: 2, start: 2, end: 9 },
+            Span { row: 3, start: 5, end: 7 },
+            Span { row: 4, start: 3, end: 10 },
+        ];
+        let silhouette = Silhouette {
+            image_size: ImageSize { width_px: w, height_px: h },
+            bounds: PixelBox { left: 0, top: 0, right: w, bottom: h },
+            spans: spans.clone(),
+            skipped: 0,
+        };
+        let fit = terms.fit(&silhouette).unwrap();
+        let (mut sum, mut area, mut on) = (0.0f64, 0usize, 0usize);
+        for span in &spans {
+            for x in span.start..span.end {
+                let i = (span.row * w + x) as usize;
+                sum += outside.distance_px[i].min(truncation_px) as f64;
+                on += usize::from(foreground.on[i]);
+                area += 1;
+            }
+        }
+        assert_eq!(fit.outside_px.to_bits(), (sum / area as f64).to_bits());
+        assert_eq!(fit.on_foreground_share, on as f64 / area as f64);
     }
 }
