@@ -6,7 +6,11 @@
 //   - the first load of the page and of an embed with the demo: every
 //     response gzipped, measured in the browser as the size gate measures it
 //   - the gzipped size of the files index.html loads
-import { readFileSync } from "node:fs";
+//   - the fused tracker in the page: walk.mp4 (640×480) and slash scaled to a
+//     portrait 1080×1920 (as benches/speed.sh makes it), frames a second
+import { execFileSync } from "node:child_process";
+import { existsSync, mkdtempSync, readFileSync, rmSync } from "node:fs";
+import { tmpdir } from "node:os";
 import { gzipSync } from "node:zlib";
 import { join } from "node:path";
 import { startServer, launchBrowser, firstLoad, waitReady, DIST, DATA, HAVE_DATA, FIRST_LOAD_PAGES, FIRST_LOAD_LIMIT_BYTES } from "./harness.mjs";
@@ -91,7 +95,8 @@ console.log("download (everything index.html loads):");
 for (const row of size.rows) console.log(row);
 console.log(`    total                  ${(size.raw / 1024).toFixed(1).padStart(8)} KB  gzip ${(size.gz / 1024).toFixed(1).padStart(7)} KB (goal ≤ 600 KB)`);
 
-const server = await startServer({ "/bench.html": PAGE });
+const portrait = existsSync(join(DATA, "optical", "slash.mp4")) ? portraitSlash() : null;
+const server = await startServer({ "/bench.html": PAGE, ...(portrait?.files ?? {}) });
 const browser = await launchBrowser();
 try {
   console.log("first load with the demo, in headless Chromium (every response, gzipped level 9):");
@@ -101,11 +106,66 @@ try {
     console.log(`  ${path.padEnd(12)} ${(total / 1000).toFixed(1)} KB (gate ${FIRST_LOAD_LIMIT_BYTES / 1000} KB; largest: ${largest.join(", ")})`);
   }
   await printDemoFrameRate(browser, server);
-  if (HAVE_DATA) await printTimings(browser, server);
-  else console.log(`SKIPPED: ${DATA} not found; no browser timing figures`);
+  if (HAVE_DATA) {
+    await printTimings(browser, server);
+    if (portrait) await printTrackingRate(browser, server);
+  } else console.log(`SKIPPED: ${DATA} not found; no browser timing figures`);
 } finally {
   await browser.close();
   await server.close();
+  if (portrait) rmSync(portrait.folder, { recursive: true, force: true });
+}
+
+/**
+ * slash scaled 4 times and cropped to a portrait 1080×1920 where the actor
+ * stands, with its background and its camera scaled to match (as
+ * benches/speed.sh makes it), written by ffmpeg in a scratch folder:
+ * `{ folder, files }`, the files to serve at /portrait/.
+ */
+function portraitSlash() {
+  const folder = mkdtempSync(join(tmpdir(), "embusen-bench-"));
+  const filter = "scale=iw*4:ih*4:flags=bicubic,crop=1080:1920:1480:0";
+  const ffmpeg = (input, output, ...codec) =>
+    execFileSync("ffmpeg", ["-v", "error", "-y", "-i", join(DATA, "optical", input), "-vf", filter, ...codec, join(folder, output)]);
+  ffmpeg("slash.mp4", "slash.mp4", "-c:v", "libx264", "-crf", "16", "-pix_fmt", "yuv420p");
+  ffmpeg("slash.background.png", "slash.background.png");
+  const camera = JSON.parse(readFileSync(join(DATA, "optical", "slash.camera.json"), "utf8"));
+  const [s, cropX] = [4, 1480];
+  camera.image_size = { width: 1080, height: 1920 };
+  camera.K[0][0] *= s;
+  camera.K[1][1] *= s;
+  camera.K[0][2] = (camera.K[0][2] + 0.5) * s - 0.5 - cropX;
+  camera.K[1][2] = (camera.K[1][2] + 0.5) * s - 0.5;
+  const file = (name, type) => ({ type, body: readFileSync(join(folder, name)) });
+  const files = {
+    "/portrait/slash.mp4": file("slash.mp4", "video/mp4"),
+    "/portrait/slash.background.png": file("slash.background.png", "image/png"),
+    "/portrait/slash.camera.json": { type: "application/json", body: JSON.stringify(camera) },
+  };
+  return { folder, files };
+}
+
+/** The fused tracker in the page, from the address to the finished take, on walk and the portrait slash. */
+async function printTrackingRate(browser, server) {
+  const takes = [
+    ["walk.mp4, 640×480", "/data/optical/walk", "/data/optical/walk", 60],
+    ["slash at 1080×1920", "/portrait/slash", "/data/optical/slash", 20],
+  ];
+  for (const [name, scene, suit, goal] of takes) {
+    const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+    try {
+      page.on("pageerror", (e) => console.error("page error:", e));
+      await page.goto(`${server.url}/?autoplay=0&video=${scene}.mp4&src=${suit}.suit.bvh` +
+        `&camera=${scene}.camera.json&background=${scene}.background.png`);
+      await page.waitForFunction(() => document.querySelector("#camera-panel")?.embusenCamera, null, { timeout: 60000 });
+      const r = await page.evaluate(() => document.querySelector("#camera-panel").embusenCamera.track());
+      console.log(`  ${name} tracked in the page (fused): ${r.framesPerSecond.toFixed(1)} frames a second ` +
+        `(a frame read in ${r.readMsPerFrame.toFixed(1)} ms, tracked in ${r.trackMsPerFrame.toFixed(1)} ms, ` +
+        `its path scored in ${r.scoreMsPerFrame.toFixed(1)} ms; goal ≥ ${goal})`);
+    } finally {
+      await page.close();
+    }
+  }
 }
 
 /** Parse + kinematics against three.js, and bytes → first frame, on the shared katas. */
