@@ -95,14 +95,7 @@ pub struct EvalTrackArgs {
     camera_oracle: bool,
     /// Only these trackers (`paper`, `fused`); both when not given.
     #[arg(long = "method", value_enum)]
-    methods: Vec<TrackMethodName>,
-}
-
-/// A tracker as `eval-track --method` names it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-enum TrackMethodName {
-    Paper,
-    Fused,
+    methods: Vec<TrackMethod>,
 }
 
 /// Frames from a video or a folder of PNGs.
@@ -613,14 +606,13 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
         });
         let room =
             background(background_still.is_file().then_some(background_still.as_path()), &video, None)?;
-        let wanted = |name| args.methods.is_empty() || args.methods.contains(&name);
+        let wanted =
+            |m: &TrackMethod| args.methods.is_empty() || args.methods.iter().any(|w| w.name() == m.name());
         // The first view's fused track, to weigh a second view's against.
         let mut first_view: Option<(Track, VideoTiming)> = None;
-        let methods = [
-            (TrackMethodName::Paper, TrackMethod::Paper(RiecickyParams::default())),
-            (TrackMethodName::Fused, TrackMethod::Fused(FusedParams::default())),
-        ];
-        for method in methods.into_iter().filter(|(name, _)| wanted(*name)).map(|(_, m)| m) {
+        let methods =
+            [TrackMethod::Paper(RiecickyParams::default()), TrackMethod::Fused(FusedParams::default())];
+        for method in methods.into_iter().filter(wanted) {
             let inputs = TakeInputs { recording: recording.clone(), camera, background: room.clone() };
             let (mut job, mut frames) = open_job(inputs, &video, method)?;
             let (_, ms_per_frame, _) = run_job(&mut job, &mut frames, false)?;
