@@ -104,6 +104,33 @@ fn no_import_runs_sideways_or_up() {
     assert!(wrong.is_empty(), "imports against the one-way rule:\n{}", wrong.join("\n"));
 }
 
+/// The command line's own crates (its arguments, its progress bars) stay
+/// in `src/bin`: the library is the same for the CLI and the browser.
+#[test]
+fn the_command_line_s_crates_stay_in_the_cli() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut wrong = Vec::new();
+    let mut checked = 0;
+    for file in files.iter().filter(|f| !f.strip_prefix(&src).unwrap().starts_with("bin")) {
+        checked += 1;
+        let text = fs::read_to_string(file).unwrap();
+        for (k, line) in text.lines().enumerate() {
+            if ["clap::", "indicatif::"].iter().any(|c| line.contains(c)) {
+                wrong.push(format!(
+                    "src/{}:{}: {}",
+                    file.strip_prefix(&src).unwrap().display(),
+                    k + 1,
+                    line.trim()
+                ));
+            }
+        }
+    }
+    assert!(checked > 50, "only {checked} library files found: is the scan broken?");
+    assert!(wrong.is_empty(), "the CLI's crates in the library:\n{}", wrong.join("\n"));
+}
+
 #[test]
 fn every_folder_says_what_it_is_for_and_may_import() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");

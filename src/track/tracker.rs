@@ -44,32 +44,21 @@ impl TrackMethod {
         }
     }
 
-    /// The method named `name` ([`TrackMethod::name`]), with its defaults.
-    pub fn named(name: &str) -> Option<TrackMethod> {
-        TrackMethod::ALL.into_iter().find(|m| m.name() == name)
-    }
-}
-
-/// `--method paper|fused` for the CLI. clap is the library's dependency
-/// off wasm only, and a derive cannot make values of variants that carry
-/// parameters: this says by hand what `#[derive(ValueEnum)]` on a plain
-/// enum would, so the CLI needs no second enum for the same choice.
-#[cfg(not(target_arch = "wasm32"))]
-impl clap::ValueEnum for TrackMethod {
-    fn value_variants<'a>() -> &'a [Self] {
-        &TrackMethod::ALL
-    }
-
-    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
-        let help = match self {
+    /// What it is, in a line (the CLI's `--help` says it).
+    pub fn summary(&self) -> &'static str {
+        match self {
             TrackMethod::Paper(_) => {
                 "Riečický et al.'s, as published: 25 positions around the last, 10 cm apart"
             }
             TrackMethod::Fused(_) => {
                 "embusen's: the suit's motion predicts, the camera corrects, a forward–backward smoother weighs both"
             }
-        };
-        Some(clap::builder::PossibleValue::new(self.name()).help(help))
+        }
+    }
+
+    /// The method named `name` ([`TrackMethod::name`]), with its defaults.
+    pub fn named(name: &str) -> Option<TrackMethod> {
+        TrackMethod::ALL.into_iter().find(|m| m.name() == name)
     }
 }
 

@@ -54,7 +54,7 @@ pub struct TrackArgs {
     /// median of frames spread over each video.
     #[arg(long, value_name = "BG.png")]
     background: Vec<PathBuf>,
-    #[arg(long, value_enum, default_value = "fused")]
+    #[arg(long, value_parser = method_parser(), default_value = "fused")]
     method: TrackMethod,
     /// How far the BVH's clock runs ahead of the video's (s): once for every
     /// video, or once per video.
@@ -94,8 +94,17 @@ pub struct EvalTrackArgs {
     #[arg(long)]
     camera_oracle: bool,
     /// Only these trackers (`paper`, `fused`); both when not given.
-    #[arg(long = "method", value_enum)]
+    #[arg(long = "method", value_parser = method_parser())]
     methods: Vec<TrackMethod>,
+}
+
+/// `--method paper|fused`: a tracker by its name ([`TrackMethod::named`]),
+/// with its defaults; `--help` lists each with its summary.
+fn method_parser() -> impl clap::builder::TypedValueParser<Value = TrackMethod> {
+    use clap::builder::TypedValueParser;
+    let names = TrackMethod::ALL.map(|m| clap::builder::PossibleValue::new(m.name()).help(m.summary()));
+    clap::builder::PossibleValuesParser::new(names)
+        .try_map(|name| TrackMethod::named(&name).ok_or_else(|| format!("no tracker is named {name}")))
 }
 
 /// Frames from a video or a folder of PNGs.
