@@ -4,7 +4,9 @@
 # and slash scaled to a portrait 1080×1920 (their cameras' K scaled with
 # them), each the median of RUNS runs taken in
 # turn (base, here, base, here, … so a drift of the machine's speed hits
-# both), decoding, start-up and writing included; then the ratios.
+# both), decoding, start-up and writing included; then the ratios; and
+# last the fused tracker alone, one thread, as `cargo bench --bench track`
+# times it at each commit.
 #
 #   benches/speed.sh [BASE]     (or: ./build.sh speed [BASE]; RUNS=5)
 #
@@ -101,3 +103,23 @@ done
 # The issue's measure: a 1440×1080 frame against a 640×480 one, here.
 awk '{ ms[$1 " " $2] = $3 / $4 } END {
     printf "%-32s %43.2f\n", "here, walk 1440x1080 / 640x480", ms["walk 1440x1080"] / ms["walk 640x480"] }' "$WORK/here.ms"
+
+# The fused tracker alone on walk 640×480, one thread, the frames decoded
+# beforehand (`cargo bench --bench track`'s "fused tracker", pipeline and
+# path energies included): issue 46 step 3's measure, BASE's bench and
+# this tree's run in turn. BASE's sources find ../shared beside them
+# through a link in WORK (its bench reads the data from there).
+ln -sfn "$ROOT/../shared" "$WORK/shared"
+fused_ms_of() {
+    (cd "$1" && CARGO_TARGET_DIR="$2" cargo bench --quiet --bench track 2>/dev/null) |
+        awk '/fused tracker/ { print $3 }'
+}
+base_ms=() head_ms=()
+for _ in $(seq "$RUNS"); do
+    base_ms+=("$(fused_ms_of "$WORK/base-src" "$WORK/base-target")")
+    head_ms+=("$(fused_ms_of "$ROOT" "${CARGO_TARGET_DIR:-$ROOT/target}")")
+done
+base="$(printf '%s\n' "${base_ms[@]}" | median)"
+head="$(printf '%s\n' "${head_ms[@]}" | median)"
+awk -v b="$base" -v h="$head" 'BEGIN {
+    printf "%-32s %11.2f ms %11.2f ms %10.2f\n", "fused tracker alone, walk", b, h, h / b }'
