@@ -41,8 +41,10 @@ pub struct FrameTerms<'a> {
     /// truncated distance is the truncation itself and nothing is
     /// foreground, so a span there costs a multiplication. Exactly what a
     /// sum of its pixels would: each distance is 0 or an f32 of at least 1
-    /// below 2⁷, a multiple of 2⁻²³, so every sum of a row's (under 2²⁰)
-    /// is exact in an f64, in any order.
+    /// (a pixel's distance) and at most the truncation (a few hundred px at
+    /// the most, under 2¹⁰), so a multiple of 2⁻²³; a row's sum (under 2¹⁴
+    /// pixels) stays below 2²⁴, every partial sum exact in an f64, in any
+    /// order.
     prefix_top: usize,
     prefix_rows: usize,
     prefix_left: usize,

@@ -11,7 +11,7 @@ use crate::image::pipeline::Features;
 use crate::track::fused::{FrameScoring, FusedParams, line_of_sight};
 use crate::track::path::PathRequest;
 use crate::track::setup::TrackSetup;
-use crate::track::working_scale::{WorkingScales, shrunk_frame};
+use crate::track::working_scale::{WorkingScales, checked_working_scale, shrunk_frame};
 
 /// Scores [`PathRequest`]s apart from the tracker, from the same frames:
 /// what the tracker would have computed, to the last bit. And, for
@@ -32,7 +32,10 @@ impl PathScorer {
     /// video frame `request.frame`; NaN where the body is not in the image.
     pub fn energies(&mut self, request: &PathRequest, frame: &GreyImage) -> Result<Vec<f64>, Error> {
         let label = format!("video frame {}", request.frame);
-        let (setup, _) = self.scales.at(request.working_scale);
+        let camera = &self.scales.whole().camera;
+        camera.check_image_size(frame.width_px, frame.height_px, &label)?;
+        let factor = checked_working_scale(camera, request.working_scale, &label)?;
+        let (setup, _) = self.scales.at(factor);
         let frame = shrunk_frame(frame, request.working_scale);
         let features = setup.features(&frame, request.truncate_px, &label)?;
         self.energies_with(request, &features)
@@ -42,7 +45,8 @@ impl PathScorer {
     /// made them ([`crate::track::tracker::Tracker::take_path_work`]).
     pub fn energies_with(&mut self, request: &PathRequest, features: &Features) -> Result<Vec<f64>, Error> {
         let label = format!("video frame {}", request.frame);
-        let (setup, scorer) = self.scales.at(request.working_scale);
+        let factor = checked_working_scale(&self.scales.whole().camera, request.working_scale, &label)?;
+        let (setup, scorer) = self.scales.at(factor);
         let Some(body) = setup.posed_body(request.frame)? else {
             return Err(Error::whole(&label, "no pose in the BVH here: no path to score"));
         };

@@ -14,11 +14,11 @@
 //! polygon is clipped there to the part of the plane the image can see, its
 //! long edges split so the lens can bend them, and only then put through
 //! the lens and the focal lengths, point by point, as
-//! `Camera::point_in_image` does. The polygons are filled with scanlines by
-//! the pixel-centre rule into a mask that spans only the body's bounding
-//! box (the trackers render many candidate positions per frame, and a
-//! 150-pixel body covers a twentieth of a 640×480 image), then read off as
-//! runs per row ([`Silhouette::spans`]).
+//! `Camera::point_in_image` does. Each polygon is filled with scanlines by
+//! the pixel-centre rule, one column range per row, and the ranges of a
+//! row are merged into its runs ([`Silhouette::spans`]): no pixel is
+//! touched one by one (the trackers render many candidate positions per
+//! frame).
 //!
 //! Outlines are sampled finely enough that the polygon stays within
 //! 0.05 px of the true curve (points spaced by the projected size, the

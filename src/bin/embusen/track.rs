@@ -457,7 +457,8 @@ fn track_views_at_once(
                 scope.spawn(move || track_view(view, recording, args, &said, false))
             })
             .collect();
-        running
+        // Every thread joined before the first error is returned.
+        let finished: Vec<_> = running
             .into_iter()
             .zip(views)
             .map(|(thread, view)| {
@@ -465,7 +466,8 @@ fn track_views_at_once(
                     Err(Error::whole(&view.video.display().to_string(), "its tracking thread failed"))
                 })
             })
-            .collect()
+            .collect();
+        finished.into_iter().collect()
     })
 }
 
