@@ -302,9 +302,9 @@ impl FusedTracker {
         let radius_cm = (params.search_sigmas * spread).clamp(params.min_search_cm, params.max_search_cm);
         // Lost, the body may be anywhere: the frame read whole, its
         // features as the first frame's.
-        let (_, depth_cm) = fused_truncation_px(&setup.camera, params, predicted);
+        let depth_cm = body_depth_cm(&setup.camera, predicted);
         let scale = if lost { 1 } else { working_scale(&setup.camera, depth_cm) };
-        let (truncation_px, _) = fused_truncation_px(&setup.camera.shrunk(scale), params, predicted);
+        let truncation_px = truncation_px_at(&setup.camera.shrunk(scale), params, depth_cm);
         FusedPrediction {
             predicted: Some((predicted, radius_cm)),
             lost,
@@ -771,9 +771,19 @@ pub fn fused_terms<'a>(
 /// distance; and that distance (cm, the camera's depth of the point 1 m
 /// above `near_cm`, at least 50 cm).
 fn fused_truncation_px(camera: &Camera, params: &FusedParams, near_cm: DVec2) -> (f32, f64) {
-    let depth_cm = camera.point_in_camera(DVec3::new(near_cm.x, 100.0, near_cm.y)).z.max(50.0);
-    let truncation_px = (camera.intrinsics.fx_px * params.truncation_cm / depth_cm) as f32;
-    (truncation_px.max(1.0), depth_cm)
+    let depth_cm = body_depth_cm(camera, near_cm);
+    (truncation_px_at(camera, params, depth_cm), depth_cm)
+}
+
+/// The camera's depth (cm, at least 50) of the point 1 m above `near_cm`:
+/// how far a body standing there is.
+fn body_depth_cm(camera: &Camera, near_cm: DVec2) -> f64 {
+    camera.point_in_camera(DVec3::new(near_cm.x, 100.0, near_cm.y)).z.max(50.0)
+}
+
+/// `params.truncation_cm` in `camera`'s pixels (at least 1) at `depth_cm`.
+fn truncation_px_at(camera: &Camera, params: &FusedParams, depth_cm: f64) -> f32 {
+    ((camera.intrinsics.fx_px * params.truncation_cm / depth_cm) as f32).max(1.0)
 }
 
 /// The direction on the floor (x, z) of the camera's line of sight through

@@ -135,9 +135,9 @@ enum TrackerState {
 
 /// The tracker in the middle of a video.
 pub struct Tracker {
-    setup: TrackSetup,
-    /// The take at each working scale frames were read at, with their
-    /// scorers (the paper's tracker reads every frame whole).
+    /// The take (`WorkingScales::whole`) and the same at each working scale
+    /// frames were read at, with their scorers (the paper's tracker reads
+    /// every frame whole).
     scales: WorkingScales,
     state: TrackerState,
     frames: Vec<TrackedFrame>,
@@ -161,13 +161,7 @@ impl Tracker {
             TrackMethod::Paper(params) => TrackerState::Paper(RiecickyTracker::new(params)?),
             TrackMethod::Fused(params) => TrackerState::Fused(Box::new(FusedTracker::new(params))),
         };
-        Ok(Tracker {
-            scales: WorkingScales::new(setup.clone()),
-            setup,
-            state,
-            frames: Vec::new(),
-            last_features: None,
-        })
+        Ok(Tracker { scales: WorkingScales::new(setup), state, frames: Vec::new(), last_features: None })
     }
 
     /// From now on the fused tracker does not score the path search's
@@ -235,7 +229,8 @@ impl Tracker {
     pub fn push_frame(&mut self, frame: &GreyImage) -> Result<&TrackedFrame, Error> {
         let i = self.frames.len();
         let label = format!("video frame {i}");
-        let Tracker { setup, scales, state, frames, last_features } = self;
+        let Tracker { scales, state, frames, last_features } = self;
+        let setup = scales.whole();
         *last_features = None;
         setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
         let time_s = i as f64 / setup.timing.fps;
@@ -297,7 +292,7 @@ impl Tracker {
             TrackerState::Fused(fused) => {
                 let params = fused.params();
                 let (smoothed, mean_innovation, warnings) =
-                    fused.finish(&self.setup.camera, 1.0 / self.setup.timing.fps);
+                    fused.finish(&self.scales.whole().camera, 1.0 / self.scales.whole().timing.fps);
                 let smoothed: Vec<SmoothedFrame> = smoothed.unwrap_or_else(|| {
                     frames.iter().map(|f| SmoothedFrame::round(f.floor_cm, f64::NAN)).collect()
                 });

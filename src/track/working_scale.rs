@@ -72,7 +72,8 @@ pub struct WorkingScales {
 impl WorkingScales {
     /// The take at `setup`'s own scale only, for now.
     pub fn new(setup: TrackSetup) -> WorkingScales {
-        WorkingScales { scales: vec![(1, setup.shrunk(1), Scorer::new(&setup.camera))] }
+        let scorer = Scorer::new(&setup.camera);
+        WorkingScales { scales: vec![(1, setup, scorer)] }
     }
 
     /// The take as given, read whole.
