@@ -3,6 +3,8 @@
 
 use glam::{DAffine3, DMat3, DVec2, DVec3};
 
+use crate::image::Shrink;
+
 /// The size of the camera's images.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct ImageSize {
@@ -183,32 +185,31 @@ impl Camera {
         ))
     }
 
-    /// The camera whose images are this one's shrunk `factor` times each
-    /// way ([`crate::image::GreyImage::shrunk`]): a pixel of it is a
-    /// `factor × factor` block of this one's, its centre at
-    /// `(x + ½) · factor − ½` here, so the focal lengths divide by `factor`
-    /// and the principal point moves to `(c + ½) / factor − ½`; the lens,
-    /// in the ideal image, is the same. Columns and rows that fill no block
-    /// are dropped. A factor of 1 (or 0) is this camera.
-    pub fn shrunk(&self, factor: u32) -> Camera {
-        let s = factor.max(1);
-        if s == 1 {
+    /// The camera whose images are this one's shrunk by `shrink`
+    /// ([`crate::image::GreyImage::shrunk`]): a pixel of it spans `f × f`
+    /// of this one's (`f` = [`Shrink::factor`]), its centre at
+    /// `(x + ½) · f − ½` here, so the focal lengths divide by `f` and the
+    /// principal point moves to `(c + ½) / f − ½`; the lens, in the ideal
+    /// image, is the same. Columns and rows that fill no shrunk pixel are
+    /// dropped. [`Shrink::NONE`] is this camera.
+    pub fn shrunk(&self, shrink: Shrink) -> Camera {
+        if shrink.is_none() {
             // Not through the arithmetic: (c + ½) / 1 − ½ may differ from c
             // in its last bit.
             return *self;
         }
         let k = self.intrinsics;
-        let f = s as f64;
+        let f = shrink.factor();
         Camera {
             image_size: ImageSize {
-                width_px: self.image_size.width_px / s,
-                height_px: self.image_size.height_px / s,
+                width_px: shrink.length_px(self.image_size.width_px),
+                height_px: shrink.length_px(self.image_size.height_px),
             },
             intrinsics: Intrinsics {
                 fx_px: k.fx_px / f,
                 fy_px: k.fy_px / f,
-                cx_px: (k.cx_px + 0.5) / f - 0.5,
-                cy_px: (k.cy_px + 0.5) / f - 0.5,
+                cx_px: shrink.coordinate_px(k.cx_px),
+                cy_px: shrink.coordinate_px(k.cy_px),
             },
             ..*self
         }
@@ -243,13 +244,14 @@ mod tests {
     #[test]
     fn a_shrunk_camera_sees_a_point_in_the_block_it_fell_in() {
         let camera = camera();
-        for factor in [1, 2, 3] {
-            let shrunk = camera.shrunk(factor);
-            assert_eq!(shrunk.image_size.width_px, 640 / factor);
+        for quarters in [4, 8, 9, 12] {
+            let shrunk = camera.shrunk(Shrink::from_quarters(quarters).unwrap());
+            let factor = quarters as f64 / 4.0;
+            assert_eq!(shrunk.image_size.width_px, 640 * 4 / quarters);
             for point in [DVec3::new(0.0, 0.0, 0.0), DVec3::new(80.0, 170.0, -120.0)] {
                 let full = camera.point_in_image(point).unwrap();
                 let small = shrunk.point_in_image(point).unwrap();
-                let expected = (full + 0.5) / factor as f64 - 0.5;
+                let expected = (full + 0.5) / factor - 0.5;
                 assert!((small - expected).length() < 1e-9, "{factor}: {small} ≠ {expected}");
             }
         }

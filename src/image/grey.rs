@@ -2,6 +2,7 @@
 //! and distances, each row-major with its size in pixels.
 
 use crate::error::Error;
+use crate::image::shrink::{Shrink, area_resampled};
 
 /// An 8-bit grey image: pixel `(x, y)` is `pixels[y · width_px + x]`.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -94,16 +95,24 @@ impl GreyImage {
         Ok(GreyImage { width_px, height_px, pixels })
     }
 
-    /// The image shrunk `factor` times each way: each pixel the mean of a
-    /// `factor × factor` block, rounded half up (integers only, the same
-    /// bytes on every target); the last columns and rows that fill no
-    /// block are dropped, as [`crate::camera::Camera::shrunk`] drops them.
-    /// A factor of 1 (or 0) is a copy.
-    pub fn shrunk(&self, factor: u32) -> GreyImage {
-        let s = factor.max(1) as usize;
-        if s == 1 {
+    /// The image shrunk by `shrink` ([`Shrink`]): each pixel the mean of
+    /// the source pixels under it, weighted by the area they cover, rounded
+    /// half up (integers only, the same bytes on every target; at a whole
+    /// factor the mean of a block); the last columns and rows that fill no
+    /// shrunk pixel are dropped, as [`crate::camera::Camera::shrunk`]
+    /// drops them. [`Shrink::NONE`] is a copy.
+    pub fn shrunk(&self, shrink: Shrink) -> GreyImage {
+        if shrink.is_none() {
             return self.clone();
         }
+        let Some(times) = shrink.whole_times() else {
+            let (width_px, height_px, pixels) =
+                area_resampled(&self.pixels, self.width_px, self.height_px, shrink);
+            return GreyImage { width_px, height_px, pixels };
+        };
+        // A whole factor: blocks summed straight, no weights (the same
+        // bytes as the weighted sum).
+        let s = times as usize;
         let (w, h) = (self.width_px as usize, self.height_px as usize);
         let (out_w, out_h) = (w / s, h / s);
         let (area, half) = ((s * s) as u32, (s * s / 2) as u32);
@@ -301,15 +310,15 @@ mod tests {
         // 5×4 by 2: columns 0–3 and rows 0–3 fill blocks, column 4 is dropped.
         let pixels: Vec<u8> = (0..20u8).map(|v| v * 10).collect();
         let image = GreyImage::new(5, 4, pixels, "test").unwrap();
-        let shrunk = image.shrunk(2);
+        let shrunk = image.shrunk(Shrink::whole(2));
         assert_eq!((shrunk.width_px, shrunk.height_px), (2, 2));
         // (0 + 10 + 50 + 60) / 4 = 30; (20 + 30 + 70 + 80) / 4 = 50; …
         assert_eq!(shrunk.pixels, [30, 50, 130, 150]);
-        let halves = GreyImage::new(2, 1, vec![1, 2], "test").unwrap().shrunk(2);
+        let halves = GreyImage::new(2, 1, vec![1, 2], "test").unwrap().shrunk(Shrink::whole(2));
         assert_eq!(halves.pixels.len(), 0);
-        let odd = GreyImage::new(2, 2, vec![0, 1, 1, 0], "test").unwrap().shrunk(2);
+        let odd = GreyImage::new(2, 2, vec![0, 1, 1, 0], "test").unwrap().shrunk(Shrink::whole(2));
         assert_eq!(odd.pixels, [1], "2 / 4 rounds half up");
-        assert_eq!(image.shrunk(1), image);
+        assert_eq!(image.shrunk(Shrink::NONE), image);
     }
 
     #[test]

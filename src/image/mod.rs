@@ -17,5 +17,7 @@ pub mod distance;
 pub mod grey;
 pub mod morphology;
 pub mod pipeline;
+pub mod shrink;
 
 pub use grey::{DistanceImage, GreyImage, Mask, PixelBox, fnv1a};
+pub use shrink::Shrink;

@@ -37,6 +37,7 @@ use glam::{DMat2, DVec2, DVec3};
 
 use crate::body::shape::{BodyShape, PosedBody};
 use crate::camera::Camera;
+use crate::image::Shrink;
 use crate::image::components::blobs;
 use crate::image::pipeline::Features;
 use crate::track::depth::{bridge_flights, correct_depth};
@@ -160,9 +161,9 @@ pub struct FusedPrediction {
     /// working scale): the energy reads them only up to its truncation, so
     /// they are computed only so far, near the foreground (the same values).
     pub truncate_px: Option<f32>,
-    /// How many times each way the frame is shrunk before it is read
-    /// ([`working_scale`]): 1 where nothing says where the body is.
-    pub working_scale: u32,
+    /// How much the frame is shrunk before it is read
+    /// ([`working_scale`]): not at all where nothing says where the body is.
+    pub working_scale: Shrink,
 }
 
 /// What the search and the filter made of a frame.
@@ -290,7 +291,7 @@ impl FusedTracker {
                 step_cm,
                 step_sigma_cm: f64::INFINITY,
                 truncate_px: pipeline_truncate_px,
-                working_scale: 1,
+                working_scale: Shrink::NONE,
             };
         };
         let before_cm = Some(filter.current().0);
@@ -303,7 +304,7 @@ impl FusedTracker {
         // Lost, the body may be anywhere: the frame read whole, its
         // features as the first frame's.
         let depth_cm = body_depth_cm(&setup.camera, predicted);
-        let scale = if lost { 1 } else { working_scale(&setup.camera, depth_cm) };
+        let scale = if lost { Shrink::NONE } else { working_scale(&setup.camera, depth_cm) };
         let truncation_px = truncation_px_at(&setup.camera.shrunk(scale), params, depth_cm);
         FusedPrediction {
             predicted: Some((predicted, radius_cm)),

@@ -20,6 +20,7 @@
 use glam::{DMat2, DVec2};
 
 use crate::error::Error;
+use crate::image::Shrink;
 use crate::track::smoother::FloorFilter;
 use crate::track::smoother::frames_per_error;
 
@@ -119,9 +120,9 @@ pub struct PathRequest {
     pub prediction_cm: DVec2,
     /// The cap of the distance transforms the frame's features had.
     pub truncate_px: Option<f32>,
-    /// How many times each way the frame was shrunk before it was read
+    /// How much the frame was shrunk before it was read
     /// (`track::working_scale`).
-    pub working_scale: u32,
+    pub working_scale: Shrink,
     /// Where to score (x, z, cm).
     pub candidates_cm: Vec<DVec2>,
 }

@@ -7,6 +7,7 @@ use glam::DVec2;
 
 use crate::error::Error;
 use crate::image::GreyImage;
+use crate::image::Shrink;
 use crate::image::pipeline::Features;
 use crate::track::fused::{FrameScoring, FusedParams, line_of_sight};
 use crate::track::path::PathRequest;
@@ -34,9 +35,9 @@ impl PathScorer {
         let label = format!("video frame {}", request.frame);
         let camera = &self.scales.whole().camera;
         camera.check_image_size(frame.width_px, frame.height_px, &label)?;
-        let factor = checked_working_scale(camera, request.working_scale, &label)?;
-        let (setup, _) = self.scales.at(factor);
-        let frame = shrunk_frame(frame, request.working_scale);
+        let shrink = checked_working_scale(camera, request.working_scale, &label)?;
+        let (setup, _) = self.scales.at(shrink);
+        let frame = shrunk_frame(frame, shrink);
         let features = setup.features(&frame, request.truncate_px, &label)?;
         self.energies_with(request, &features)
     }
@@ -45,8 +46,8 @@ impl PathScorer {
     /// made them ([`crate::track::tracker::Tracker::take_path_work`]).
     pub fn energies_with(&mut self, request: &PathRequest, features: &Features) -> Result<Vec<f64>, Error> {
         let label = format!("video frame {}", request.frame);
-        let factor = checked_working_scale(&self.scales.whole().camera, request.working_scale, &label)?;
-        let (setup, scorer) = self.scales.at(factor);
+        let shrink = checked_working_scale(&self.scales.whole().camera, request.working_scale, &label)?;
+        let (setup, scorer) = self.scales.at(shrink);
         let Some(body) = setup.posed_body(request.frame)? else {
             return Err(Error::whole(&label, "no pose in the BVH here: no path to score"));
         };
@@ -69,7 +70,7 @@ impl PathScorer {
         reach_cm: f64,
     ) -> Result<Option<DVec2>, Error> {
         let label = format!("video frame {i}");
-        let (setup, scorer) = self.scales.at(1);
+        let (setup, scorer) = self.scales.at(Shrink::NONE);
         setup.camera.check_image_size(frame.width_px, frame.height_px, &label)?;
         let Some(body) = setup.posed_body(i)? else { return Ok(None) };
         let features = setup.features(frame, setup.pipeline.truncate_px, &label)?;

@@ -10,8 +10,8 @@ use glam::{DVec2, DVec3};
 use crate::body::shape::{BodyShape, PosedBody};
 use crate::camera::Camera;
 use crate::error::Error;
-use crate::image::GreyImage;
 use crate::image::pipeline::{Features, PipelineParams, features};
+use crate::image::{GreyImage, Shrink};
 use crate::track::suit_motion::{SuitMotion, VideoTiming};
 
 /// `shape` in `suit`'s pose at video frame `i` (its time through `timing`),
@@ -62,15 +62,15 @@ impl TrackSetup {
         features(frame, &self.background, &params, label)
     }
 
-    /// The same take worked on at `factor`
+    /// The same take worked on at a working scale
     /// ([`crate::track::working_scale::working_scale`]): its camera
-    /// and its background shrunk `factor` times each way
+    /// and its background shrunk by `shrink`
     /// ([`Camera::shrunk`], [`GreyImage::shrunk`]), for frames shrunk as
-    /// much. A factor of 1 is a copy.
-    pub fn shrunk(&self, factor: u32) -> TrackSetup {
+    /// much. [`Shrink::NONE`] is a copy.
+    pub fn shrunk(&self, shrink: Shrink) -> TrackSetup {
         TrackSetup {
-            camera: self.camera.shrunk(factor),
-            background: self.background.shrunk(factor),
+            camera: self.camera.shrunk(shrink),
+            background: self.background.shrunk(shrink),
             ..self.clone()
         }
     }

@@ -12,8 +12,8 @@
 use glam::{DMat2, DVec2, DVec3};
 
 use crate::error::Error;
-use crate::image::GreyImage;
 use crate::image::pipeline::Features;
+use crate::image::{GreyImage, Shrink};
 use crate::track::fused::{FusedParams, FusedTracker, SmoothedFrame};
 use crate::track::path::PathRequest;
 use crate::track::riecicky::{RiecickyParams, RiecickyTracker};
@@ -250,7 +250,7 @@ impl Tracker {
         let (estimate, foreground) = match state {
             TrackerState::Paper(paper) => {
                 let features = setup.published_features(frame, &label)?;
-                (paper.frame(scales.at(1).1, &body, &features), features)
+                (paper.frame(scales.at(Shrink::NONE).1, &body, &features), features)
             }
             TrackerState::Fused(fused) => {
                 let prediction = fused.predict(setup, instant, i);

@@ -16,7 +16,7 @@
 
 use crate::camera::Camera;
 use crate::error::Error;
-use crate::image::GreyImage;
+use crate::image::{GreyImage, Shrink};
 use crate::track::energy::Scorer;
 use crate::track::setup::TrackSetup;
 
@@ -28,36 +28,45 @@ use crate::track::setup::TrackSetup;
 /// 0.5–1.2 cm at the body: they are read whole).
 pub const WORKING_PIXEL_CM: f64 = 1.0;
 
+/// The steps of the working scale, in quarters: whole factors.
+const STEP_QUARTERS: u32 = 4;
+
 /// A working image is never shrunk below this many pixels either way: the
 /// search's margins and the soles' windows want room around the body.
 pub const MIN_WORKING_SIDE_PX: u32 = 160;
 
-/// How many times each way a frame of `camera` is shrunk before it is read
-/// (1: whole) when the body is `depth_cm` from the camera: as many as keep
-/// a working pixel within [`WORKING_PIXEL_CM`] at the body, and each side
-/// at least [`MIN_WORKING_SIDE_PX`]. A body 1000 px tall in a 1080×1920
-/// frame is read at a fifth of it; one 200 px tall is read whole.
-pub fn working_scale(camera: &Camera, depth_cm: f64) -> u32 {
+/// How much a frame of `camera` is shrunk before it is read when the body
+/// is `depth_cm` from the camera: as much, in quarters
+/// ([`Shrink`]), as keeps a working pixel within [`WORKING_PIXEL_CM`] at
+/// the body and each side at least [`MIN_WORKING_SIDE_PX`]. A body 1000 px
+/// tall in a 1080×1920 frame is read at a fifth of it; one 200 px tall is
+/// read whole.
+pub fn working_scale(camera: &Camera, depth_cm: f64) -> Shrink {
     let pixel_cm = depth_cm / camera.intrinsics.fx_px.max(camera.intrinsics.fy_px);
-    let by_pixel = (WORKING_PIXEL_CM / pixel_cm).floor();
+    let by_pixel = (4.0 * WORKING_PIXEL_CM / pixel_cm / STEP_QUARTERS as f64).floor() * STEP_QUARTERS as f64;
     let size = camera.image_size;
-    let by_side = size.width_px.min(size.height_px) / MIN_WORKING_SIDE_PX;
-    if by_pixel.is_finite() && by_pixel >= 1.0 { (by_pixel.min(by_side as f64) as u32).max(1) } else { 1 }
+    let by_side = 4 * size.width_px.min(size.height_px) / MIN_WORKING_SIDE_PX / STEP_QUARTERS * STEP_QUARTERS;
+    if by_pixel.is_finite() && by_pixel >= 4.0 {
+        Shrink::from_quarters(by_pixel.min(by_side as f64) as u32).unwrap_or(Shrink::NONE)
+    } else {
+        Shrink::NONE
+    }
 }
 
-/// `factor` when it is one [`working_scale`] can give for `camera`: 1, or
-/// one that leaves each side at least [`MIN_WORKING_SIDE_PX`]; an error for
-/// `label` otherwise (a request from elsewhere — the page's second worker —
-/// is checked before anything is shrunk by it).
-pub fn checked_working_scale(camera: &Camera, factor: u32, label: &str) -> Result<u32, Error> {
+/// `shrink` when it is one [`working_scale`] can give for `camera`: none,
+/// or one that leaves each side at least [`MIN_WORKING_SIDE_PX`]; an error
+/// for `label` otherwise (a request from elsewhere — the page's second
+/// worker — is checked before anything is shrunk by it).
+pub fn checked_working_scale(camera: &Camera, shrink: Shrink, label: &str) -> Result<Shrink, Error> {
     let side = camera.image_size.width_px.min(camera.image_size.height_px);
-    if factor == 1 || (factor > 1 && side / factor >= MIN_WORKING_SIDE_PX) {
-        return Ok(factor);
+    if shrink.is_none() || shrink.length_px(side) >= MIN_WORKING_SIDE_PX {
+        return Ok(shrink);
     }
     Err(Error::whole(
         label,
         format!(
-            "a working scale of {factor} for a {side} px side (1, or one leaving {MIN_WORKING_SIDE_PX} px)"
+            "a working scale of {} quarters for a {side} px side (4, or one leaving {MIN_WORKING_SIDE_PX} px)",
+            shrink.quarters()
         ),
     ))
 }
@@ -66,14 +75,14 @@ pub fn checked_working_scale(camera: &Camera, factor: u32, label: &str) -> Resul
 /// scorer for its camera: made the first time, then kept (a take uses a
 /// few).
 pub struct WorkingScales {
-    scales: Vec<(u32, TrackSetup, Scorer)>,
+    scales: Vec<(Shrink, TrackSetup, Scorer)>,
 }
 
 impl WorkingScales {
     /// The take at `setup`'s own scale only, for now.
     pub fn new(setup: TrackSetup) -> WorkingScales {
         let scorer = Scorer::new(&setup.camera);
-        WorkingScales { scales: vec![(1, setup, scorer)] }
+        WorkingScales { scales: vec![(Shrink::NONE, setup, scorer)] }
     }
 
     /// The take as given, read whole.
@@ -81,15 +90,14 @@ impl WorkingScales {
         &self.scales[0].1
     }
 
-    /// The take at `factor` and its scorer.
-    pub fn at(&mut self, factor: u32) -> (&TrackSetup, &mut Scorer) {
-        let factor = factor.max(1);
-        let k = match self.scales.iter().position(|(f, _, _)| *f == factor) {
+    /// The take shrunk by `shrink` and its scorer.
+    pub fn at(&mut self, shrink: Shrink) -> (&TrackSetup, &mut Scorer) {
+        let k = match self.scales.iter().position(|(s, _, _)| *s == shrink) {
             Some(k) => k,
             None => {
-                let setup = self.scales[0].1.shrunk(factor);
+                let setup = self.scales[0].1.shrunk(shrink);
                 let scorer = Scorer::new(&setup.camera);
-                self.scales.push((factor, setup, scorer));
+                self.scales.push((shrink, setup, scorer));
                 self.scales.len() - 1
             }
         };
@@ -98,12 +106,12 @@ impl WorkingScales {
     }
 }
 
-/// `frame` shrunk `factor` times each way, borrowed as it is at 1.
-pub fn shrunk_frame(frame: &GreyImage, factor: u32) -> std::borrow::Cow<'_, GreyImage> {
-    if factor <= 1 {
+/// `frame` shrunk by `shrink`, borrowed when it is none.
+pub fn shrunk_frame(frame: &GreyImage, shrink: Shrink) -> std::borrow::Cow<'_, GreyImage> {
+    if shrink.is_none() {
         std::borrow::Cow::Borrowed(frame)
     } else {
-        std::borrow::Cow::Owned(frame.shrunk(factor))
+        std::borrow::Cow::Owned(frame.shrunk(shrink))
     }
 }
 
@@ -129,25 +137,28 @@ mod tests {
 
     #[test]
     fn a_frame_is_shrunk_as_far_as_a_pixel_stays_within_a_centimetre_at_the_body() {
-        // 640×480 at 500 px: a pixel is 0.8 cm at 4 m, read whole.
-        assert_eq!(working_scale(&camera(640, 480, 500.0), 400.0), 1);
-        // The same camera at 1440×1080: 0.36 cm, read at half.
-        assert_eq!(working_scale(&camera(1440, 1080, 1125.0), 400.0), 2);
+        let quarters = |camera: &Camera, depth_cm| working_scale(camera, depth_cm).quarters();
+        // 640×480 at 500 px: a pixel is 1.2 cm at 6 m, read whole.
+        assert_eq!(quarters(&camera(640, 480, 500.0), 600.0), 4);
+        // The same camera at 1440×1080: 0.36 cm at 4 m, read at half.
+        assert_eq!(quarters(&camera(1440, 1080, 1125.0), 400.0), 8);
         // A portrait phone at 1.5 m: 0.1 cm, but no side under 160 px.
-        assert_eq!(working_scale(&camera(1080, 1920, 1500.0), 150.0), 6);
-        assert_eq!(working_scale(&camera(1080, 1920, 1500.0), 50.0), 6);
+        assert_eq!(quarters(&camera(1080, 1920, 1500.0), 150.0), 24);
+        assert_eq!(quarters(&camera(1080, 1920, 1500.0), 50.0), 24);
         // Far away, or no depth at all: whole.
-        assert_eq!(working_scale(&camera(1440, 1080, 1125.0), 5000.0), 1);
-        assert_eq!(working_scale(&camera(1440, 1080, 1125.0), f64::NAN), 1);
+        assert_eq!(working_scale(&camera(1440, 1080, 1125.0), 5000.0), Shrink::NONE);
+        assert_eq!(working_scale(&camera(1440, 1080, 1125.0), f64::NAN), Shrink::NONE);
     }
 
     #[test]
     fn a_working_scale_from_elsewhere_is_checked_against_the_camera() {
         let portrait = camera(1080, 1920, 1500.0);
-        assert_eq!(checked_working_scale(&portrait, 1, "frame 3").unwrap(), 1);
-        assert_eq!(checked_working_scale(&portrait, 6, "frame 3").unwrap(), 6);
-        for wrong in [0, 7, 4000] {
-            let said = checked_working_scale(&portrait, wrong, "video frame 3").unwrap_err().to_string();
+        let shrink = |quarters| Shrink::from_quarters(quarters).unwrap();
+        assert_eq!(checked_working_scale(&portrait, Shrink::NONE, "frame 3").unwrap(), Shrink::NONE);
+        assert_eq!(checked_working_scale(&portrait, shrink(27), "frame 3").unwrap(), shrink(27));
+        for wrong in [28, 4000] {
+            let said =
+                checked_working_scale(&portrait, shrink(wrong), "video frame 3").unwrap_err().to_string();
             assert!(said.contains("video frame 3") && said.contains(&format!("{wrong}")), "{said}");
         }
     }

@@ -16,6 +16,7 @@ use wasm_bindgen::JsValue;
 use super::js_object::{read, refuse_unknown_fields};
 use crate::app::frame_layers::Layer;
 use crate::app::tracking::{FinishedView, NamedBytes, PaperCandidates, VideoDescription};
+use crate::image::Shrink;
 use crate::track::fused::FusedParams;
 use crate::track::offset::OffsetEstimate;
 use crate::track::path::PathRequest;
@@ -242,8 +243,9 @@ pub struct PathWork {
     pub prediction: FloorPoint,
     /// The cap of the frame's distance transforms (px); `null`: none.
     pub truncate_px: Option<f32>,
-    /// How many times each way the frame is shrunk before it is read.
-    pub working_scale: u32,
+    /// How much the frame is shrunk before it is read, in quarters: 4
+    /// reads it whole, 9 shrinks it 2.25 times each way.
+    pub working_scale_quarters: u32,
     pub candidates: Vec<FloorPoint>,
 }
 
@@ -253,7 +255,7 @@ impl PathWork {
             frame: r.frame,
             prediction: r.prediction_cm.into(),
             truncate_px: r.truncate_px,
-            working_scale: r.working_scale,
+            working_scale_quarters: r.working_scale.quarters(),
             candidates: r.candidates_cm.into_iter().map(FloorPoint::from).collect(),
         }
     }
@@ -263,11 +265,17 @@ impl PathWork {
         let value = value.js_value();
         refuse_unknown_fields::<FloorPoint>(&field(&value, "prediction"), "the path request's prediction")?;
         let work: PathWork = read(value, "the path request")?;
+        let working_scale = Shrink::from_quarters(work.working_scale_quarters).ok_or_else(|| {
+            format!(
+                "the path request's working_scale_quarters: {} (4 or more: 4 reads the frame whole)",
+                work.working_scale_quarters
+            )
+        })?;
         Ok(PathRequest {
             frame: work.frame,
             prediction_cm: work.prediction.into(),
             truncate_px: work.truncate_px,
-            working_scale: work.working_scale,
+            working_scale,
             candidates_cm: work.candidates.into_iter().map(DVec2::from).collect(),
         })
     }
