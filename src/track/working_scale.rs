@@ -25,11 +25,17 @@ use crate::track::setup::TrackSetup;
 /// two, so a finer pixel measures the model, not where the body stands;
 /// and a pixel of 1 cm still leaves a body 170 px tall, its contour
 /// hundreds of pixels long (the shared 640×480 scenes put a pixel at
-/// 0.5–1.2 cm at the body: they are read whole).
+/// 0.5–1.2 cm at the body: read whole where it is over ⅔ cm).
 pub const WORKING_PIXEL_CM: f64 = 1.0;
 
-/// The steps of the working scale, in quarters: whole factors.
-const STEP_QUARTERS: u32 = 4;
+/// The steps of the working scale, in quarters: halves (1, 1.5, 2, 2.5, …
+/// times each way). Whole steps leave a working pixel anywhere from a half
+/// to a whole [`WORKING_PIXEL_CM`] (a 1440×1080 take's far body read at
+/// 0.5 cm, at five times the pixels of a 640×480 take's at 1.2); finer
+/// steps change the factor, and so the pixel grid under the body, more
+/// often as it comes nearer, each change moving where its edges fall by
+/// up to half a pixel.
+const STEP_QUARTERS: u32 = 2;
 
 /// A working image is never shrunk below this many pixels either way: the
 /// search's margins and the soles' windows want room around the body.
@@ -140,11 +146,14 @@ mod tests {
         let quarters = |camera: &Camera, depth_cm| working_scale(camera, depth_cm).quarters();
         // 640×480 at 500 px: a pixel is 1.2 cm at 6 m, read whole.
         assert_eq!(quarters(&camera(640, 480, 500.0), 600.0), 4);
-        // The same camera at 1440×1080: 0.36 cm at 4 m, read at half.
-        assert_eq!(quarters(&camera(1440, 1080, 1125.0), 400.0), 8);
-        // A portrait phone at 1.5 m: 0.1 cm, but no side under 160 px.
-        assert_eq!(quarters(&camera(1080, 1920, 1500.0), 150.0), 24);
-        assert_eq!(quarters(&camera(1080, 1920, 1500.0), 50.0), 24);
+        // The same camera at 1440×1080: 0.36 cm at 4 m, read at 2.5 times
+        // less (a pixel of 0.89 cm; 2.75 would be 0.98, but the steps are
+        // halves).
+        assert_eq!(quarters(&camera(1440, 1080, 1125.0), 400.0), 10);
+        // A portrait phone at 1.5 m: 0.1 cm, but no side under 160 px
+        // (1080 / 6.5 = 166).
+        assert_eq!(quarters(&camera(1080, 1920, 1500.0), 150.0), 26);
+        assert_eq!(quarters(&camera(1080, 1920, 1500.0), 50.0), 26);
         // Far away, or no depth at all: whole.
         assert_eq!(working_scale(&camera(1440, 1080, 1125.0), 5000.0), Shrink::NONE);
         assert_eq!(working_scale(&camera(1440, 1080, 1125.0), f64::NAN), Shrink::NONE);
@@ -155,7 +164,7 @@ mod tests {
         let portrait = camera(1080, 1920, 1500.0);
         let shrink = |quarters| Shrink::from_quarters(quarters).unwrap();
         assert_eq!(checked_working_scale(&portrait, Shrink::NONE, "frame 3").unwrap(), Shrink::NONE);
-        assert_eq!(checked_working_scale(&portrait, shrink(27), "frame 3").unwrap(), shrink(27));
+        assert_eq!(checked_working_scale(&portrait, shrink(26), "frame 3").unwrap(), shrink(26));
         for wrong in [28, 4000] {
             let said =
                 checked_working_scale(&portrait, shrink(wrong), "video frame 3").unwrap_err().to_string();
