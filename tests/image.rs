@@ -195,9 +195,10 @@ mod native {
     }
 
     /// The browser reads a frame's luma plane from its decoder and makes it
-    /// grey in Rust (`GreyImage::from_luma`): that must be the grey the CLI
-    /// reads through `ffmpeg -pix_fmt gray`, for every luma level, in limited
-    /// and in full range, or the app's tracks would not be the CLI's.
+    /// grey in Rust (`GreyImage::from_luma`), and so does the CLI from the
+    /// plane ffmpeg decodes: that must be the grey `ffmpeg -pix_fmt gray`
+    /// makes, for every luma level, in limited and in full range, or the
+    /// tracks would depend on who converted the frames.
     #[test]
     fn grey_from_a_luma_plane_is_ffmpegs_grey_for_every_level() {
         let (w, h) = (256usize, 2usize);
@@ -215,10 +216,18 @@ mod native {
             let path = dir.join(format!("ramp-{range}.y4m"));
             std::fs::write(&path, y4m).unwrap();
             // ffmpeg is installed by ./build.sh, as for every video test.
-            let mut video = Ffmpeg::default().open(&path).unwrap();
-            let from_ffmpeg = video.next_frame().unwrap().unwrap();
+            let converted = std::process::Command::new("ffmpeg")
+                .args(["-nostdin", "-v", "error", "-i"])
+                .arg(&path)
+                .args(["-frames:v", "1", "-f", "rawvideo", "-pix_fmt", "gray", "-"])
+                .output()
+                .unwrap();
+            assert!(converted.status.success(), "{}", String::from_utf8_lossy(&converted.stderr));
+            let from_ffmpeg = GreyImage::new(w as u32, h as u32, converted.stdout, "ramp").unwrap();
             let ours = GreyImage::from_luma(w as u32, h as u32, &luma, w, full, "ramp").unwrap();
             assert_eq!(ours, from_ffmpeg, "{range}");
+            let mut video = Ffmpeg::default().open(&path).unwrap();
+            assert_eq!(video.next_frame().unwrap().unwrap(), from_ffmpeg, "{range}: the CLI's reader");
         }
         // Rows farther apart than the width (a decoder's padding) are read
         // row by row; a plane too short is an error.

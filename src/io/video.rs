@@ -2,9 +2,13 @@
 //! only: the browser decodes its video itself).
 //!
 //! `ffprobe` first tells the size, the frame rate and the number of frames;
-//! then `ffmpeg -f rawvideo -pix_fmt gray` streams the frames through a pipe,
-//! one `width × height` block of bytes each, so a long video never sits in
-//! memory whole. ffmpeg turns the picture upright (phone videos carry a
+//! then `ffmpeg -f rawvideo` streams the frames through a pipe, one
+//! `width × height` block of bytes each, so a long video never sits in
+//! memory whole. A video in 8-bit YUV (what cameras and phones write) comes
+//! as its luma plane as decoded (`-vf extractplanes=y`), made grey here as
+//! the page makes the browser decoder's planes grey
+//! ([`GreyImage::from_luma`]: the same bytes `-pix_fmt gray` gives, without
+//! ffmpeg converting every pixel); any other kind through `-pix_fmt gray`. ffmpeg turns the picture upright (phone videos carry a
 //! rotation) and the size reported here is the upright one. Frames are the
 //! decoded frames as they are (`-fps_mode passthrough`): frame `i` is at
 //! `i / fps` seconds, exact for the constant-rate video cameras write.
@@ -46,6 +50,8 @@ pub struct VideoInfo {
 /// The frames of a video in grey, decoded as they are read.
 pub struct VideoFrames {
     pub info: VideoInfo,
+    /// The frames come as their luma plane: `Some(full_range)`.
+    luma: Option<bool>,
     file: String,
     child: Child,
     stdout: ChildStdout,
@@ -68,6 +74,18 @@ fn last_line(stderr: &str) -> &str {
     stderr.lines().rev().map(str::trim).find(|l| !l.is_empty()).unwrap_or("no message")
 }
 
+/// Whether frames in ffmpeg's pixel format `pix_fmt` are read as their
+/// luma plane, and then whether it is full range (`Some(true)`: a `yuvj`
+/// format, or `color_range` `pc`): 8-bit planar YUV only, whose first
+/// plane is the luma at the picture's size; `None` for the rest (10-bit,
+/// RGB, grey, packed), which ffmpeg turns grey.
+fn luma_plane(pix_fmt: &str, color_range: Option<&str>) -> Option<bool> {
+    const PLANAR_YUV_8_BIT: [&str; 6] = ["yuv420p", "yuv422p", "yuv444p", "yuv440p", "yuv411p", "yuv410p"];
+    let full_range_format = pix_fmt.strip_prefix("yuvj").map(|rest| format!("yuv{rest}"));
+    let format = full_range_format.as_deref().unwrap_or(pix_fmt);
+    PLANAR_YUV_8_BIT.contains(&format).then_some(full_range_format.is_some() || color_range == Some("pc"))
+}
+
 /// A rate such as `30000/1001` or `25`; `None` for `0/0` and the like.
 fn parse_rate(text: &str) -> Option<f64> {
     let (num, den) = text.split_once('/').unwrap_or((text, "1"));
@@ -79,13 +97,19 @@ impl Ffmpeg {
     /// The size, rate and length of the first video stream of `path`; an
     /// error naming the file when `ffprobe` is missing or finds no video.
     pub fn probe(&self, path: &Path) -> Result<VideoInfo, Error> {
+        self.probe_stream(path).map(|(info, _)| info)
+    }
+
+    /// [`Ffmpeg::probe`], and whether the frames can be read as their luma
+    /// plane ([`luma_plane`]).
+    fn probe_stream(&self, path: &Path) -> Result<(VideoInfo, Option<bool>), Error> {
         let file = path.display().to_string();
         if !path.is_file() {
             return Err(Error::whole(&file, "no such file"));
         }
         let output = Command::new(&self.ffprobe)
             .args(["-v", "error", "-count_packets", "-select_streams", "v:0", "-show_entries"])
-            .arg("stream=width,height,avg_frame_rate,r_frame_rate,nb_read_packets:stream_tags=rotate:stream_side_data=rotation")
+            .arg("stream=width,height,avg_frame_rate,r_frame_rate,nb_read_packets,pix_fmt,color_range:stream_tags=rotate:stream_side_data=rotation")
             .args(["-of", "default=noprint_wrappers=1"])
             .arg(path)
             .stdin(Stdio::null())
@@ -122,17 +146,26 @@ impl Ffmpeg {
         let (Ok(width_px @ 1..), Ok(height_px @ 1..)) = (width_px, height_px) else {
             return Err(Error::whole(&file, format!("a video of {width}×{height} pixels")));
         };
-        Ok(VideoInfo { width_px, height_px, fps, frame_count })
+        let luma = field("pix_fmt").and_then(|format| luma_plane(format, field("color_range")));
+        Ok((VideoInfo { width_px, height_px, fps, frame_count }, luma))
     }
 
     /// Starts decoding `path` into grey frames (see the module's note).
     pub fn open(&self, path: &Path) -> Result<VideoFrames, Error> {
-        let info = self.probe(path)?;
+        let (info, luma) = self.probe_stream(path)?;
         let file = path.display().to_string();
-        let mut child = Command::new(&self.ffmpeg)
-            .args(["-nostdin", "-v", "error", "-i"])
-            .arg(path)
-            .args(["-map", "0:v:0", "-fps_mode", "passthrough", "-f", "rawvideo", "-pix_fmt", "gray", "-"])
+        let mut command = Command::new(&self.ffmpeg);
+        command.args(["-nostdin", "-v", "error", "-i"]).arg(path).args([
+            "-map",
+            "0:v:0",
+            "-fps_mode",
+            "passthrough",
+        ]);
+        if luma.is_some() {
+            command.args(["-vf", "extractplanes=y"]);
+        }
+        let mut child = command
+            .args(["-f", "rawvideo", "-pix_fmt", "gray", "-"])
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
@@ -150,7 +183,7 @@ impl Ffmpeg {
             let _ = stderr.read_to_string(&mut text);
             text
         });
-        Ok(VideoFrames { info, file, child, stdout, stderr: Some(stderr), next_index: 0, done: false })
+        Ok(VideoFrames { info, luma, file, child, stdout, stderr: Some(stderr), next_index: 0, done: false })
     }
 }
 
@@ -209,7 +242,10 @@ impl VideoFrames {
             })));
         }
         self.next_index += 1;
-        Some(GreyImage::new(w, h, pixels, &self.file))
+        Some(match self.luma {
+            Some(full_range) => GreyImage::from_luma(w, h, &pixels, w as usize, full_range, &self.file),
+            None => GreyImage::new(w, h, pixels, &self.file),
+        })
     }
 }
 
@@ -265,6 +301,17 @@ mod tests {
         assert!((parse_rate("30000/1001").unwrap() - 29.97).abs() < 0.01);
         assert_eq!(parse_rate("0/0"), None);
         assert_eq!(parse_rate("25"), Some(25.0));
+    }
+
+    #[test]
+    fn eight_bit_planar_yuv_is_read_as_its_luma_plane() {
+        assert_eq!(luma_plane("yuv420p", Some("unknown")), Some(false));
+        assert_eq!(luma_plane("yuv420p", Some("tv")), Some(false));
+        assert_eq!(luma_plane("yuv444p", Some("pc")), Some(true));
+        assert_eq!(luma_plane("yuvj420p", None), Some(true));
+        for other in ["yuv420p10le", "nv12", "rgb24", "gray", "yuyv422", "yuvj420p10le"] {
+            assert_eq!(luma_plane(other, Some("tv")), None, "{other}");
+        }
     }
 
     #[test]
