@@ -121,10 +121,12 @@ pub(crate) fn area_resampled(
     let w = width_px as usize;
     let mut out = Vec::with_capacity(out_w * out_h);
     // Down the columns first (a weighted sum of whole rows, which the
-    // compiler vectorises), then along the one summed row.
-    let mut column_sums = vec![0u32; w];
+    // compiler vectorises), then along the one summed row; the sums run
+    // `stride` zeros past the last column, so that every pixel's taps can
+    // be read as a whole.
+    let mut column_sums = vec![0u32; w + columns.stride];
     for y in 0..out_h {
-        column_sums.fill(0);
+        column_sums[..w].fill(0);
         let (first_row, row_weights) = rows.of(y);
         for (k, &weight_y) in row_weights.iter().enumerate().filter(|(_, w)| **w > 0) {
             let row = &pixels[(first_row + k) * w..(first_row + k + 1) * w];
@@ -132,17 +134,35 @@ pub(crate) fn area_resampled(
                 *sum += weight_y * v as u32;
             }
         }
-        out.extend((0..out_w).map(|x| {
-            let (first, weights) = columns.of(x);
-            let sum: u32 = weights
-                .iter()
-                .zip(&column_sums[first..w.min(first + weights.len())])
-                .map(|(&a, &b)| a * b)
-                .sum();
-            ((sum + half) / area) as u8
-        }));
+        let mean = |sum: u32| ((sum + half) / area) as u8;
+        match columns.stride {
+            2 => along_row::<2>(&columns, &column_sums, mean, &mut out),
+            3 => along_row::<3>(&columns, &column_sums, mean, &mut out),
+            4 => along_row::<4>(&columns, &column_sums, mean, &mut out),
+            5 => along_row::<5>(&columns, &column_sums, mean, &mut out),
+            6 => along_row::<6>(&columns, &column_sums, mean, &mut out),
+            _ => out.extend((0..out_w).map(|x| {
+                let (first, weights) = columns.of(x);
+                mean(weights.iter().zip(&column_sums[first..]).map(|(&a, &b)| a * b).sum())
+            })),
+        }
     }
     (out_w as u32, out_h as u32, out)
+}
+
+/// One shrunk row from `column_sums` (the row's columns summed down), for
+/// taps `N` wide: fixed-size, so that each pixel's sum is unrolled.
+fn along_row<const N: usize>(
+    columns: &Taps,
+    column_sums: &[u32],
+    mean: impl Fn(u32) -> u8,
+    out: &mut Vec<u8>,
+) {
+    let taps = columns.first.iter().zip(columns.weights.chunks_exact(N));
+    out.extend(taps.map(|(&first, weights)| {
+        let (sums, weights) = (&column_sums[first..][..N], &weights[..N]);
+        mean((0..N).map(|k| weights[k] * sums[k]).sum())
+    }));
 }
 
 #[cfg(test)]
@@ -181,6 +201,29 @@ mod tests {
                     let mean = (sum + (s * s / 2) as u32) / (s * s) as u32;
                     assert_eq!(out[y * out_w as usize + x] as u32, mean, "{times}× at ({x}, {y})");
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn every_factor_is_the_area_weighted_mean_pixel_by_pixel() {
+        // Against the definition, one shrunk pixel at a time: the source
+        // pixels' overlaps with its square, in quarters each way.
+        let (w, h) = (37u32, 29u32);
+        let pixels: Vec<u8> = (0..w * h).map(|i| (i * 97 % 251) as u8).collect();
+        let overlap =
+            |a: u32, q: u32, i: u32| ((a + 1) * q).min(4 * i + 4).saturating_sub((a * q).max(4 * i));
+        for q in 5..=40 {
+            let shrink = Shrink::from_quarters(q).unwrap();
+            let (out_w, out_h, out) = area_resampled(&pixels, w, h, shrink);
+            assert_eq!((out_w, out_h), (w * 4 / q, h * 4 / q));
+            for (y, x) in (0..out_h).flat_map(|y| (0..out_w).map(move |x| (y, x))) {
+                let sum: u32 = (0..h)
+                    .flat_map(|j| (0..w).map(move |i| (j, i)))
+                    .map(|(j, i)| overlap(x, q, i) * overlap(y, q, j) * pixels[(j * w + i) as usize] as u32)
+                    .sum();
+                let expected = (sum + q * q / 2) / (q * q);
+                assert_eq!(out[(y * out_w + x) as usize] as u32, expected, "{q} quarters at ({x}, {y})");
             }
         }
     }
