@@ -325,6 +325,7 @@ fn track_writes_a_bvh_and_a_row_per_frame_and_refuses_bad_input() {
     assert!(app.0 == std::fs::read_to_string(&out).unwrap(), "the app's corrected BVH is not the CLI's");
     assert!(app.1 == csv, "the app's hips CSV is not the CLI's");
     a_finished_take_opens_as_tracked(&out, &bvh, &camera, &csv, &app.2);
+    several_takes_at_once_are_each_tracked_as_alone(&scene, &out, &csv);
 
     let refused = |(ok, said): (bool, String), expected: &str| {
         assert!(
@@ -350,6 +351,43 @@ fn track_writes_a_bvh_and_a_row_per_frame_and_refuses_bad_input() {
     // An output folder that is not there, said before tracking.
     let nowhere = dir.join("no such folder").join("walk.bvh");
     refused(track_cli(&video, &bvh, &camera, Some(&background), &nowhere), "does not exist");
+}
+
+/// `embusen track-takes` on a folder of two takes of walk (links to the
+/// shared files under two names) tracked at once, and a third without a
+/// camera: each take's files the bytes `embusen track` wrote for it alone
+/// (`alone_bvh`, `alone_csv`), the one that could not be tracked named, and
+/// a video with no BVH beside it said to be no take.
+fn several_takes_at_once_are_each_tracked_as_alone(scene: &Path, alone_bvh: &Path, alone_csv: &str) {
+    let takes = Scratch::new("takes");
+    let written = Scratch::new("takes-out");
+    for (name, linked) in [("walk", "walk"), ("again", "walk"), ("uncalibrated", "walk"), ("board-video", "")]
+    {
+        let endings: &[&str] = match name {
+            "uncalibrated" => &[".mp4", ".suit.bvh"],
+            "board-video" => &[".mp4"],
+            _ => &[".mp4", ".suit.bvh", ".camera.json", ".background.png"],
+        };
+        for ending in endings {
+            let source = scene.join(format!("{}{ending}", if linked.is_empty() { "walk" } else { linked }));
+            std::os::unix::fs::symlink(source, takes.join(format!("{name}{ending}"))).unwrap();
+        }
+    }
+    let output = embusen(&["track-takes".as_ref(), takes.as_os_str(), "-o".as_ref(), written.as_os_str()]);
+    let said = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "one take could not be tracked: {said}");
+    assert!(
+        said.contains("uncalibrated") && said.contains("no camera") && !said.contains("panicked"),
+        "{said}"
+    );
+    assert!(said.contains("board-video.mp4 is not a take"), "{said}");
+    assert!(said.contains("1 of 3 takes failed"), "{said}");
+    let alone = std::fs::read(alone_bvh).unwrap();
+    for name in ["walk", "again"] {
+        assert!(std::fs::read(written.join(format!("{name}.bvh"))).unwrap() == alone, "{name}.bvh");
+        let csv = std::fs::read_to_string(written.join(format!("{name}.track.csv"))).unwrap();
+        assert!(csv == alone_csv, "{name}.track.csv");
+    }
 }
 
 /// `app::tracking::TrackingJob` on a video whose frames come as luma planes

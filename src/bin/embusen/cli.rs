@@ -36,6 +36,10 @@ enum Command {
     /// same take, with a calibrated camera: writes the corrected BVH and the
     /// hips track (CSV, with the camera's confidence per frame).
     Track(crate::track::TrackArgs),
+    /// Track every take in some folders, several at once (as many as there
+    /// are cores): each as `track` would, its corrected BVH and hips track
+    /// written into one output folder.
+    TrackTakes(crate::takes::TrackTakesArgs),
     /// Measure the trackers on scenes whose true hips path is known: per
     /// scene and as medians, the suit's own translation, `paper` and `fused`.
     EvalTrack(crate::track::EvalTrackArgs),
@@ -138,6 +142,7 @@ pub fn main() -> ExitCode {
         #[cfg(feature = "board")]
         Some(Command::Calibrate(args)) => crate::calibrate::run(&args),
         Some(Command::Track(args)) => crate::track::run_track(&args),
+        Some(Command::TrackTakes(args)) => crate::takes::run_track_takes(&args),
         Some(Command::EvalTrack(args)) => crate::track::run_eval_track(&args),
         Some(Command::Eval { inputs, closure, truth, pair }) => {
             run_eval(&inputs, &closure, truth.as_deref(), &pair)

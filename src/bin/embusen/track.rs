@@ -28,51 +28,51 @@ use embusen::track::tracker::{Track, TrackMethod};
 use embusen::track::views::{ViewSightings, fuse_views};
 use glam::DVec2;
 
-#[derive(clap::Args)]
+#[derive(clap::Args, Clone)]
 pub struct TrackArgs {
     /// The video (anything ffmpeg reads), or a folder of PNG frames (with
     /// --fps); several: one per camera filming the take, each with its own
     /// --camera (or --board) and --background, in the same order, weighed
     /// into one track on the first video's frames.
     #[arg(required = true, num_args = 1..)]
-    video: Vec<PathBuf>,
+    pub video: Vec<PathBuf>,
     /// The suit's recording of the same take.
     #[arg(long)]
-    bvh: PathBuf,
+    pub bvh: PathBuf,
     /// The calibrated camera (camera.json), one per video.
     #[arg(long, required_unless_present = "board", conflicts_with = "board")]
-    camera: Vec<PathBuf>,
+    pub camera: Vec<PathBuf>,
     /// A still of the ChArUco board on the floor (its layout in BOARD.json
     /// beside it), one per video: each camera is calibrated from its own.
     #[arg(long, value_name = "BOARD.png")]
-    board: Vec<PathBuf>,
+    pub board: Vec<PathBuf>,
     /// With --board: the lens (camera.json) to pose, one per board; without,
     /// the focal length is estimated from the still.
     #[arg(long, requires = "board", value_name = "CAMERA.json")]
-    intrinsics: Vec<PathBuf>,
+    pub intrinsics: Vec<PathBuf>,
     /// A still of the empty room, one per video; without, the per-pixel
     /// median of frames spread over each video.
     #[arg(long, value_name = "BG.png")]
-    background: Vec<PathBuf>,
+    pub background: Vec<PathBuf>,
     #[arg(long, value_parser = method_parser(), default_value = "fused")]
-    method: TrackMethod,
+    pub method: TrackMethod,
     /// How far the BVH's clock runs ahead of the video's (s): once for every
     /// video, or once per video.
     #[arg(long, allow_hyphen_values = true)]
-    offset_s: Vec<f64>,
+    pub offset_s: Vec<f64>,
     /// Refine --offset-s from the video itself, within a quarter of a
     /// second either way (a stride takes at least half a second, so a
     /// walk or run a whole stride out of step fits as well: give the offset
     /// to that precision): track, find the offset at which the pose fits 60
     /// frames spread over the take best, and track again at it.
     #[arg(long)]
-    estimate_offset: bool,
+    pub estimate_offset: bool,
     /// Frame rate of a folder of PNG frames.
     #[arg(long)]
-    fps: Option<f64>,
+    pub fps: Option<f64>,
     /// The corrected BVH; the hips track goes beside it as `OUT.track.csv`.
     #[arg(short, long, value_name = "OUT.bvh")]
-    output: PathBuf,
+    pub output: PathBuf,
 }
 
 #[derive(clap::Args)]
@@ -100,7 +100,7 @@ pub struct EvalTrackArgs {
 
 /// `--method paper|fused`: a tracker by its name ([`TrackMethod::named`]),
 /// with its defaults; `--help` lists each with its summary.
-fn method_parser() -> impl clap::builder::TypedValueParser<Value = TrackMethod> {
+pub fn method_parser() -> impl clap::builder::TypedValueParser<Value = TrackMethod> {
     use clap::builder::TypedValueParser;
     let names = TrackMethod::ALL.map(|m| clap::builder::PossibleValue::new(m.name()).help(m.summary()));
     clap::builder::PossibleValuesParser::new(names)
@@ -331,7 +331,7 @@ fn output_folder_exists(output: &Path) -> Result<(), Error> {
 }
 
 pub fn run_track(args: &TrackArgs) -> ExitCode {
-    match track(args) {
+    match track(args, "", true) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
@@ -391,14 +391,17 @@ fn views_of(args: &TrackArgs) -> Result<Vec<ViewArgs<'_>>, Error> {
         .collect())
 }
 
-fn track(args: &TrackArgs) -> Result<(), Error> {
+/// Tracks the take `args` gives and writes its files. What it says begins
+/// with `said` (which take, when there are several); a progress bar with
+/// `progress`.
+pub fn track(args: &TrackArgs, said: &str, progress: bool) -> Result<(), Error> {
     output_folder_exists(&args.output)?;
     let views = views_of(args)?;
     let recording = read_recording(&args.bvh)?;
     let mut jobs = if let [view] = views.as_slice() {
-        vec![track_view(view, &recording, args, "", true)?]
+        vec![track_view(view, &recording, args, said, progress)?]
     } else {
-        track_views_at_once(&views, &recording, args)?
+        track_views_at_once(&views, &recording, args, said)?
     };
     let ms_per_frame: f64 = jobs.iter().map(|(_, _, ms)| ms).sum();
     let views_said = if jobs.len() > 1 { format!(" by {} cameras", jobs.len()) } else { String::new() };
@@ -411,7 +414,7 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
     } else {
         let (export, warnings) = first_job.weigh(&others)?;
         for w in &warnings {
-            eprintln!("warning: {w}");
+            eprintln!("warning: {said}{w}");
         }
         export
     };
@@ -426,7 +429,7 @@ fn track(args: &TrackArgs) -> Result<(), Error> {
         .map_err(|e| Error::whole(&csv.display().to_string(), format!("cannot write: {e}")))?;
     let seen = track.frames.iter().filter(|f| f.confidence > 0.0).count();
     println!(
-        "{}: {} frames tracked{views_said} ({} seen by the camera), {ms_per_frame:.1} ms per frame; wrote {out_name} and {}",
+        "{said}{}: {} frames tracked{views_said} ({} seen by the camera), {ms_per_frame:.1} ms per frame; wrote {out_name} and {}",
         track.method().name(),
         track.frames.len(),
         seen,
@@ -444,16 +447,17 @@ fn track_views_at_once(
     views: &[ViewArgs],
     recording: &Recording,
     args: &TrackArgs,
+    take_said: &str,
 ) -> Result<Vec<(TrackingJob, TakeExport, f64)>, Error> {
     for (k, view) in views.iter().enumerate() {
-        println!("view {}: {}", k + 1, view.video.display());
+        println!("{take_said}view {}: {}", k + 1, view.video.display());
     }
     std::thread::scope(|scope| {
         let running: Vec<_> = views
             .iter()
             .enumerate()
             .map(|(k, view)| {
-                let said = format!("view {} ({}): ", k + 1, view.video.display());
+                let said = format!("{take_said}view {} ({}): ", k + 1, view.video.display());
                 scope.spawn(move || track_view(view, recording, args, &said, false))
             })
             .collect();
@@ -574,14 +578,14 @@ fn scenes(dirs: &[PathBuf], only: &[String]) -> Result<Vec<(PathBuf, String)>, E
     Ok(out)
 }
 
+/// The endings of the video files a folder of takes or scenes is searched
+/// for.
+pub const VIDEO_EXTENSIONS: [&str; 5] = ["mp4", "webm", "mkv", "mov", "avi"];
+
 fn scene_video(dir: &Path, name: &str) -> Result<PathBuf, Error> {
-    ["mp4", "webm", "mkv", "mov", "avi"]
-        .iter()
-        .map(|ext| dir.join(format!("{name}.{ext}")))
-        .find(|p| p.is_file())
-        .ok_or_else(|| {
-            Error::whole(&dir.join(name).display().to_string(), "no video (.mp4, .webm, …) for this scene")
-        })
+    VIDEO_EXTENSIONS.iter().map(|ext| dir.join(format!("{name}.{ext}"))).find(|p| p.is_file()).ok_or_else(
+        || Error::whole(&dir.join(name).display().to_string(), "no video (.mp4, .webm, …) for this scene"),
+    )
 }
 
 /// How far along the line of sight `--camera-oracle` searches either side
