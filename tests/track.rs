@@ -8,7 +8,7 @@
 mod common;
 
 use common::Scratch;
-use common::filmed::{film, mean_error_cm, run, setup, track};
+use common::filmed::{film, mean_error_cm, run, run_with_scorer_apart, setup, track};
 use embusen::camera::ImageSize;
 use embusen::image::GreyImage;
 use embusen::io::bvh::Bvh;
@@ -93,6 +93,18 @@ fn frames_with_no_one_in_view_are_named_and_the_track_holds_where_seen() {
     // The frames out of view are carried by the suit's steps, and say so.
     assert!(fused.frames[..15].iter().chain(&fused.frames[50..65]).all(|f| f.confidence == 0.0));
     assert!(fused.frames.iter().all(|f| f.uncertainty_cm.is_finite()));
+    // Lost while out of view, the tracker looks for the body where its best
+    // guess puts it: a path scorer apart makes the frame's terms there too,
+    // so the CLI and the page (which score apart) place every frame where
+    // the tracker alone does.
+    let apart = run_with_scorer_apart(
+        setup(&recording, camera, &background, &frames, 25.0),
+        FusedParams::default(),
+        &frames,
+    );
+    let differ: Vec<usize> =
+        (0..frames.len()).filter(|&i| apart.frames[i].floor_cm != fused.frames[i].floor_cm).collect();
+    assert!(differ.is_empty(), "scored apart, frames {differ:?} are elsewhere");
 }
 
 /// The depth from the soles: on `walk`, whose feet are seen on the floor,

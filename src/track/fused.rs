@@ -169,8 +169,11 @@ pub struct FusedPrediction {
 /// What the search and the filter made of a frame.
 #[derive(Clone, Copy, Debug, Default)]
 struct Measured {
-    /// Where the search started.
+    /// Where the filter predicted the body.
     prediction_cm: DVec2,
+    /// Where the frame's terms were made and the search centred: the
+    /// prediction, or where a lost filter's best guess put the body.
+    terms_at_cm: DVec2,
     /// The least energy's position, if any.
     fit_cm: Option<DVec2>,
     /// Whether its fit is believable (used here and by the path search).
@@ -367,7 +370,12 @@ impl FusedTracker {
         let filter = self
             .filter
             .get_or_insert_with(|| FloorFilter::new(prediction_cm, radius_cm, dt, reacquire_after));
-        let mut measured = Measured { prediction_cm, fit_cm: fit.map(|(p, _)| p), ..Measured::default() };
+        let mut measured = Measured {
+            prediction_cm,
+            terms_at_cm: around_cm,
+            fit_cm: fit.map(|(p, _)| p),
+            ..Measured::default()
+        };
         // A fit not believable is not used, here nor by the path search.
         if let Some((p, fit)) = fit
             && fit.confidence() >= params.min_confidence
@@ -644,7 +652,7 @@ impl<'a> FrameScoring<'a> {
         } else if pending {
             request = Some(PathRequest {
                 frame: i,
-                prediction_cm: measured.prediction_cm,
+                terms_at_cm: measured.terms_at_cm,
                 truncate_px: prediction.truncate_px,
                 working_scale: prediction.working_scale,
                 candidates_cm: candidates_cm.clone(),

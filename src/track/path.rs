@@ -116,8 +116,9 @@ fn unary_costs(energies_px: &[f64], temperature_px: f64) -> Vec<f64> {
 pub struct PathRequest {
     /// The video frame.
     pub frame: usize,
-    /// Where the frame's terms were made: the prediction (x, z, cm).
-    pub prediction_cm: DVec2,
+    /// Where the frame's terms were made (x, z, cm): the prediction, or
+    /// where a lost tracker's best guess put the body.
+    pub terms_at_cm: DVec2,
     /// The cap of the distance transforms the frame's features had.
     pub truncate_px: Option<f32>,
     /// How much the frame was shrunk before it was read

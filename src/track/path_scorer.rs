@@ -52,7 +52,7 @@ impl PathScorer {
             return Err(Error::whole(&label, "no pose in the BVH here: no path to score"));
         };
         let mut scoring =
-            FrameScoring::new(setup, &self.params, scorer, &body, features, request.prediction_cm);
+            FrameScoring::new(setup, &self.params, scorer, &body, features, request.terms_at_cm);
         Ok(request.candidates_cm.iter().map(|&p| scoring.energy(p)).collect())
     }
 

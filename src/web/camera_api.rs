@@ -239,8 +239,9 @@ impl From<&crate::app::tracking::FrameProgress> for FrameProgress {
 #[tsify(missing_as_null)]
 pub struct PathWork {
     pub frame: usize,
-    /// Where the frame's terms were made: the prediction.
-    pub prediction: FloorPoint,
+    /// Where the frame's terms were made: the prediction, or where a lost
+    /// tracker's best guess put the body.
+    pub terms_at: FloorPoint,
     /// The cap of the frame's distance transforms (px); `null`: none.
     pub truncate_px: Option<f32>,
     /// How much the frame is shrunk before it is read, in quarters: 4
@@ -253,7 +254,7 @@ impl PathWork {
     pub fn from_request(r: PathRequest) -> PathWork {
         PathWork {
             frame: r.frame,
-            prediction: r.prediction_cm.into(),
+            terms_at: r.terms_at_cm.into(),
             truncate_px: r.truncate_px,
             working_scale_quarters: r.working_scale.quarters(),
             candidates: r.candidates_cm.into_iter().map(FloorPoint::from).collect(),
@@ -263,7 +264,7 @@ impl PathWork {
     /// The work from the page's object (unknown fields refused).
     pub fn from_js(value: Ts<PathWork>) -> Result<PathRequest, String> {
         let value = value.js_value();
-        refuse_unknown_fields::<FloorPoint>(&field(&value, "prediction"), "the path request's prediction")?;
+        refuse_unknown_fields::<FloorPoint>(&field(&value, "terms_at"), "the path request's terms_at")?;
         let work: PathWork = read(value, "the path request")?;
         let working_scale = Shrink::from_quarters(work.working_scale_quarters).ok_or_else(|| {
             format!(
@@ -273,7 +274,7 @@ impl PathWork {
         })?;
         Ok(PathRequest {
             frame: work.frame,
-            prediction_cm: work.prediction.into(),
+            terms_at_cm: work.terms_at.into(),
             truncate_px: work.truncate_px,
             working_scale,
             candidates_cm: work.candidates.into_iter().map(DVec2::from).collect(),

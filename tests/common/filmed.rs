@@ -9,6 +9,8 @@ use embusen::image::pipeline::PipelineParams;
 use embusen::io::bvh::Bvh;
 use embusen::io::recording::{FeetChoice, Recording};
 use embusen::synth::demo::demo;
+use embusen::track::fused::FusedParams;
+use embusen::track::path_scorer::PathScorer;
 use embusen::track::setup::TrackSetup;
 use embusen::track::silhouette::SilhouetteRenderer;
 use embusen::track::suit_motion::{SuitMotion, VideoTiming};
@@ -129,6 +131,23 @@ pub fn run(setup: TrackSetup, method: TrackMethod, frames: &[GreyImage]) -> Trac
     let mut tracker = Tracker::new(setup, method).unwrap();
     for frame in frames {
         tracker.push_frame(frame).unwrap();
+    }
+    tracker.finish()
+}
+
+/// [`run`] with the fused tracker's path energies scored apart, from each
+/// frame, by a [`PathScorer`] of the same take (as the page's second worker
+/// and the CLI's second thread score them), handed back at once.
+pub fn run_with_scorer_apart(setup: TrackSetup, params: FusedParams, frames: &[GreyImage]) -> Track {
+    let mut scorer = PathScorer::new(setup.clone(), params);
+    let mut tracker = Tracker::new(setup, TrackMethod::Fused(params)).unwrap();
+    tracker.defer_path_energies();
+    for frame in frames {
+        tracker.push_frame(frame).unwrap();
+        if let Some((request, _)) = tracker.take_path_work() {
+            let energies = scorer.energies(&request, frame).unwrap();
+            tracker.set_path_energies(request.frame, energies).unwrap();
+        }
     }
     tracker.finish()
 }
