@@ -42,7 +42,7 @@ enum Command {
     TrackTakes(crate::takes::TrackTakesArgs),
     /// Measure the trackers on scenes whose true hips path is known: per
     /// scene and as medians, the suit's own translation, `paper` and `fused`.
-    EvalTrack(crate::track::EvalTrackArgs),
+    EvalTrack(crate::eval_track::EvalTrackArgs),
     /// Recompute the floor translation of recordings (BVH in → BVH out, table in → table out).
     Translate(TranslateArgs),
     /// Print joints, frames, rate, duration, detected feet and reader warnings.
@@ -143,7 +143,7 @@ pub fn main() -> ExitCode {
         Some(Command::Calibrate(args)) => crate::calibrate::run(&args),
         Some(Command::Track(args)) => crate::track::run_track(&args),
         Some(Command::TrackTakes(args)) => crate::takes::run_track_takes(&args),
-        Some(Command::EvalTrack(args)) => crate::track::run_eval_track(&args),
+        Some(Command::EvalTrack(args)) => crate::eval_track::run_eval_track(&args),
         Some(Command::Eval { inputs, closure, truth, pair }) => {
             run_eval(&inputs, &closure, truth.as_deref(), &pair)
         }

@@ -7,6 +7,8 @@ mod calibrate;
 #[cfg(not(target_arch = "wasm32"))]
 mod cli;
 #[cfg(not(target_arch = "wasm32"))]
+mod eval_track;
+#[cfg(not(target_arch = "wasm32"))]
 mod takes;
 #[cfg(not(target_arch = "wasm32"))]
 mod track;

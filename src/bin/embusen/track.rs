@@ -1,5 +1,6 @@
-//! `embusen track` and `embusen eval-track`: where the actor is, from a
-//! video of the suit session and a calibrated camera.
+//! `embusen track`: where the actor is, from a video of the suit session
+//! and a calibrated camera; and what `track-takes` and `eval-track` read a
+//! take with.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -9,24 +10,16 @@ use std::time::Instant;
 use embusen::Error;
 use embusen::app::tracking::{Background, TakeInputs, TrackingJob, VideoDescription};
 use embusen::camera::Camera;
-use embusen::eval::track::{TrackErrors, share_within_uncertainty, track_errors};
 use embusen::image::GreyImage;
 use embusen::image::background::MEDIAN_FRAMES;
 use embusen::image::pipeline::Features;
-use embusen::io::hips_csv::parse_hips_csv;
 use embusen::io::image_file::{ImageSequence, open_png_grey};
 use embusen::io::recording::Recording;
 use embusen::io::video::{Ffmpeg, VideoFrames, sample_frames};
-use embusen::signal::stats::median;
-use embusen::track::fused::FusedParams;
 use embusen::track::path::PathRequest;
 use embusen::track::path_scorer::PathScorer;
-use embusen::track::riecicky::RiecickyParams;
-use embusen::track::suit_motion::{SuitMotion, VideoTiming};
 use embusen::track::take::TakeExport;
-use embusen::track::tracker::{Track, TrackMethod};
-use embusen::track::views::{ViewSightings, fuse_views};
-use glam::DVec2;
+use embusen::track::tracker::TrackMethod;
 
 #[derive(clap::Args, Clone)]
 pub struct TrackArgs {
@@ -75,29 +68,6 @@ pub struct TrackArgs {
     pub output: PathBuf,
 }
 
-#[derive(clap::Args)]
-pub struct EvalTrackArgs {
-    /// Folders of scenes: each `NAME.truth.csv` with `NAME.suit.bvh`,
-    /// `NAME.camera.json`, `NAME.mp4` (or `.webm`), and `NAME.background.png`
-    /// and `NAME.board.png` when there are.
-    #[arg(required = true)]
-    dirs: Vec<PathBuf>,
-    /// Calibrate each scene's camera from its `NAME.board.png` (with the
-    /// true lens) instead of reading `NAME.camera.json`'s pose.
-    #[arg(long)]
-    board_camera: bool,
-    /// Only the scenes with these names.
-    #[arg(long, num_args = 1..)]
-    only: Vec<String>,
-    /// Also the camera's best: per frame the least of the fused energy
-    /// searched densely around the true position (`oracle` rows; slow).
-    #[arg(long)]
-    camera_oracle: bool,
-    /// Only these trackers (`paper`, `fused`); both when not given.
-    #[arg(long = "method", value_parser = method_parser())]
-    methods: Vec<TrackMethod>,
-}
-
 /// `--method paper|fused`: a tracker by its name ([`TrackMethod::named`]),
 /// with its defaults; `--help` lists each with its summary.
 pub fn method_parser() -> impl clap::builder::TypedValueParser<Value = TrackMethod> {
@@ -108,7 +78,7 @@ pub fn method_parser() -> impl clap::builder::TypedValueParser<Value = TrackMeth
 }
 
 /// Frames from a video or a folder of PNGs.
-enum Frames {
+pub(crate) enum Frames {
     Video(VideoFrames),
     Sequence { sequence: ImageSequence, next: usize },
 }
@@ -152,7 +122,7 @@ impl Frames {
         Ok(VideoDescription { width_px, height_px, fps: self.fps(), frame_count: self.frame_count() })
     }
 
-    fn next_frame(&mut self) -> Option<Result<GreyImage, Error>> {
+    pub(crate) fn next_frame(&mut self) -> Option<Result<GreyImage, Error>> {
         match self {
             Frames::Video(v) => v.next_frame(),
             Frames::Sequence { sequence, next } => (*next < sequence.frame_count()).then(|| {
@@ -170,16 +140,16 @@ impl Iterator for Frames {
     }
 }
 
-fn read_text(path: &Path) -> Result<String, Error> {
+pub(crate) fn read_text(path: &Path) -> Result<String, Error> {
     std::fs::read_to_string(path)
         .map_err(|e| Error::whole(&path.display().to_string(), format!("cannot read: {e}")))
 }
 
-fn read_camera(path: &Path) -> Result<Camera, Error> {
+pub(crate) fn read_camera(path: &Path) -> Result<Camera, Error> {
     Camera::from_json(&read_text(path)?, &path.display().to_string())
 }
 
-fn read_recording(path: &Path) -> Result<Recording, Error> {
+pub(crate) fn read_recording(path: &Path) -> Result<Recording, Error> {
     let name = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|e| Error::whole(&name, format!("cannot read: {e}")))?;
     Recording::parse(&bytes, &name, None)
@@ -188,12 +158,12 @@ fn read_recording(path: &Path) -> Result<Recording, Error> {
 /// The camera from a board still, posed with `lens` or with its focal
 /// length estimated.
 #[cfg(feature = "board")]
-fn camera_from_board(still: &Path, lens: Option<&Camera>) -> Result<Camera, Error> {
+pub(crate) fn camera_from_board(still: &Path, lens: Option<&Camera>) -> Result<Camera, Error> {
     crate::calibrate::camera_from_still(still, lens)
 }
 
 #[cfg(not(feature = "board"))]
-fn camera_from_board(still: &Path, _lens: Option<&Camera>) -> Result<Camera, Error> {
+pub(crate) fn camera_from_board(still: &Path, _lens: Option<&Camera>) -> Result<Camera, Error> {
     Err(Error::whole(
         &still.display().to_string(),
         "this build has no board detector (cargo feature `board`)",
@@ -202,7 +172,7 @@ fn camera_from_board(still: &Path, _lens: Option<&Camera>) -> Result<Camera, Err
 
 /// The background: the still when given, else the median of 31 frames
 /// spread over the video (read once more from the start).
-fn background(still: Option<&Path>, video: &Path, fps: Option<f64>) -> Result<Background, Error> {
+pub(crate) fn background(still: Option<&Path>, video: &Path, fps: Option<f64>) -> Result<Background, Error> {
     if let Some(still) = still {
         return open_png_grey(still).map(Background::still);
     }
@@ -214,7 +184,7 @@ fn background(still: Option<&Path>, video: &Path, fps: Option<f64>) -> Result<Ba
 
 /// What a tracking job wrote, the milliseconds per frame the tracking took
 /// (not counting the decoding), and the warnings the tracking added.
-type JobRun = (TakeExport, f64, Vec<String>);
+pub(crate) type JobRun = (TakeExport, f64, Vec<String>);
 
 /// Frames read ahead of the path scorer at most: each frame's features
 /// wait there whole (23 MB at 1080×1920: two distance images in f32, the
@@ -225,7 +195,7 @@ const FRAMES_AHEAD_OF_SCORER: usize = 4;
 /// Feeds `frames` to `job` and finishes it. The fused tracker's path
 /// energies are scored on a second thread, from the same frames, as the
 /// page's second worker scores them: the same bits, the two cores at work.
-fn run_job(job: &mut TrackingJob, frames: &mut Frames, progress: bool) -> Result<JobRun, Error> {
+pub(crate) fn run_job(job: &mut TrackingJob, frames: &mut Frames, progress: bool) -> Result<JobRun, Error> {
     let count = frames.frame_count();
     let bar =
         if progress { indicatif::ProgressBar::new(count as u64) } else { indicatif::ProgressBar::hidden() };
@@ -304,13 +274,21 @@ fn track_beside_scorer(
 }
 
 /// The tracking job of a video file, its size and rate as ffprobe says.
-fn open_job(inputs: TakeInputs, video: &Path, method: TrackMethod) -> Result<(TrackingJob, Frames), Error> {
+pub(crate) fn open_job(
+    inputs: TakeInputs,
+    video: &Path,
+    method: TrackMethod,
+) -> Result<(TrackingJob, Frames), Error> {
     let frames = Frames::open(video, None)?;
     let description = frames.description()?;
     let name = video.display().to_string();
     let job = TrackingJob::new(inputs, &name, description, method, 0.0)?;
     Ok((job, frames))
 }
+
+/// The endings of the video files a folder of takes or scenes is searched
+/// for.
+pub const VIDEO_EXTENSIONS: [&str; 5] = ["mp4", "webm", "mkv", "mov", "avi"];
 
 /// `OUT.bvh` → `OUT.track.csv`.
 fn csv_path(output: &Path) -> PathBuf {
@@ -534,280 +512,4 @@ fn track_view(
         eprintln!("warning: {said}{w}");
     }
     Ok((job, export, ms_per_frame))
-}
-
-/// One scene's figures for one way of placing the hips.
-struct SceneRow {
-    scene: String,
-    method: &'static str,
-    errors: TrackErrors,
-    ms_per_frame: f64,
-    /// The share of frames within the uncertainty the tracker stated (NaN:
-    /// none stated).
-    within_uncertainty: f64,
-}
-
-pub fn run_eval_track(args: &EvalTrackArgs) -> ExitCode {
-    match eval_track(args) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
-}
-
-fn scenes(dirs: &[PathBuf], only: &[String]) -> Result<Vec<(PathBuf, String)>, Error> {
-    let mut out = Vec::new();
-    for dir in dirs {
-        let name = dir.display().to_string();
-        let entries = std::fs::read_dir(dir).map_err(|e| Error::whole(&name, format!("cannot read: {e}")))?;
-        let mut found: Vec<String> = entries
-            .filter_map(|e| e.ok())
-            .filter_map(|e| {
-                e.file_name().to_str().and_then(|n| n.strip_suffix(".truth.csv")).map(String::from)
-            })
-            .filter(|n| only.is_empty() || only.contains(n))
-            .collect();
-        found.sort();
-        out.extend(found.into_iter().map(|n| (dir.clone(), n)));
-    }
-    if out.is_empty() {
-        return Err(Error::whole("eval-track", "no scene (NAME.truth.csv) in the folders given"));
-    }
-    Ok(out)
-}
-
-/// The endings of the video files a folder of takes or scenes is searched
-/// for.
-pub const VIDEO_EXTENSIONS: [&str; 5] = ["mp4", "webm", "mkv", "mov", "avi"];
-
-fn scene_video(dir: &Path, name: &str) -> Result<PathBuf, Error> {
-    VIDEO_EXTENSIONS.iter().map(|ext| dir.join(format!("{name}.{ext}"))).find(|p| p.is_file()).ok_or_else(
-        || Error::whole(&dir.join(name).display().to_string(), "no video (.mp4, .webm, …) for this scene"),
-    )
-}
-
-/// How far along the line of sight `--camera-oracle` searches either side
-/// of the truth (cm): farther than any tracker here strays.
-const ORACLE_REACH_CM: f64 = 80.0;
-
-fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
-    let mut rows: Vec<SceneRow> = Vec::new();
-    for (dir, name) in scenes(&args.dirs, &args.only)? {
-        let path = |suffix: &str| dir.join(format!("{name}{suffix}"));
-        let truth_path = path(".truth.csv");
-        let truth = parse_hips_csv(&read_text(&truth_path)?, &truth_path.display().to_string())?;
-        let truth_floor: Vec<DVec2> = truth.iter().map(|s| DVec2::new(s.hips_cm.x, s.hips_cm.z)).collect();
-        let recording = read_recording(&path(".suit.bvh"))?;
-        let true_camera = read_camera(&path(".camera.json"))?;
-        let camera = if args.board_camera {
-            camera_from_board(&path(".board.png"), Some(&true_camera))?
-        } else {
-            true_camera
-        };
-        let video = scene_video(&dir, &name)?;
-        let background_still = path(".background.png");
-        // The suit's own translation, read at the video's frames.
-        let suit = SuitMotion::new(&recording)?;
-        let times_s: Vec<f64> = truth.iter().map(|s| s.time_s).collect();
-        let suit_floor = suit.suit_floor_at(&times_s);
-        rows.push(SceneRow {
-            scene: name.clone(),
-            method: "suit",
-            errors: track_errors(&suit_floor, &truth_floor),
-            ms_per_frame: 0.0,
-            within_uncertainty: f64::NAN,
-        });
-        let room =
-            background(background_still.is_file().then_some(background_still.as_path()), &video, None)?;
-        let wanted =
-            |m: &TrackMethod| args.methods.is_empty() || args.methods.iter().any(|w| w.name() == m.name());
-        // The first view's fused track, to weigh a second view's against.
-        let mut first_view: Option<(Track, VideoTiming)> = None;
-        let methods =
-            [TrackMethod::Paper(RiecickyParams::default()), TrackMethod::Fused(FusedParams::default())];
-        for method in methods.into_iter().filter(wanted) {
-            let inputs = TakeInputs { recording: recording.clone(), camera, background: room.clone() };
-            let (mut job, mut frames) = open_job(inputs, &video, method)?;
-            let (_, ms_per_frame, _) = run_job(&mut job, &mut frames, false)?;
-            let Some(track) = job.track() else { continue };
-            let row = scene_row(&name, track.method().name(), track, &truth_floor, ms_per_frame);
-            print_row(&row);
-            rows.push(row);
-            if matches!(method, TrackMethod::Fused(_)) {
-                first_view = Some((track.clone(), job.timing()));
-            }
-        }
-        // A second camera (`second_view/` beside the scenes): tracked
-        // alone, then weighed with the first.
-        let second = dir.join("second_view");
-        if let Some(first) =
-            first_view.as_ref().filter(|_| second.join(format!("{name}.camera.json")).is_file())
-        {
-            let first_ms = rows
-                .iter()
-                .rev()
-                .find(|r| r.scene == name && r.method == "fused")
-                .map_or(0.0, |r| r.ms_per_frame);
-            for row in second_view_rows(
-                &second,
-                &name,
-                &recording,
-                args.board_camera,
-                first,
-                (&truth_floor, first_ms),
-            )? {
-                print_row(&row);
-                rows.push(row);
-            }
-        }
-        if args.camera_oracle {
-            let method = TrackMethod::Fused(FusedParams::default());
-            let inputs = TakeInputs { recording: recording.clone(), camera, background: room.clone() };
-            let (mut job, mut frames) = open_job(inputs, &video, method)?;
-            let started = Instant::now();
-            let mut floor = Vec::new();
-            let mut i = 0;
-            while let Some(frame) = frames.next_frame() {
-                let frame = frame?;
-                let Some(&around) = truth_floor.get(i) else { break };
-                floor.push(job.camera_oracle(&frame, i, around, ORACLE_REACH_CM)?.unwrap_or(DVec2::NAN));
-                i += 1;
-            }
-            let row = SceneRow {
-                scene: name.clone(),
-                method: "oracle",
-                errors: track_errors(&floor, &truth_floor),
-                ms_per_frame: 1e3 * started.elapsed().as_secs_f64() / floor.len().max(1) as f64,
-                within_uncertainty: f64::NAN,
-            };
-            print_row(&row);
-            rows.push(row);
-        }
-    }
-    println!();
-    println!(
-        "{:<12} {:<6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>9} {:>7}",
-        "scene", "method", "mean cm", "median", "p90", "max", "final", ">20 cm", "ms/frame", "in 1σ"
-    );
-    for row in &rows {
-        print_row(row);
-    }
-    println!("medians over the scenes:");
-    for method in ["suit", "paper", "fused", "view2", "2views", "oracle"] {
-        let of: Vec<&SceneRow> = rows.iter().filter(|r| r.method == method).collect();
-        if of.is_empty() {
-            continue;
-        }
-        let m = |get: fn(&TrackErrors) -> f64| median(&of.iter().map(|r| get(&r.errors)).collect::<Vec<_>>());
-        let errors = TrackErrors {
-            mean_cm: m(|e| e.mean_cm),
-            median_cm: m(|e| e.median_cm),
-            p90_cm: m(|e| e.p90_cm),
-            max_cm: m(|e| e.max_cm),
-            final_cm: m(|e| e.final_cm),
-            lost_share: m(|e| e.lost_share),
-        };
-        let ms = median(&of.iter().map(|r| r.ms_per_frame).collect::<Vec<_>>());
-        let within = median(&of.iter().map(|r| r.within_uncertainty).collect::<Vec<_>>());
-        print_row(&SceneRow {
-            scene: "median".into(),
-            method: of.first().map_or("?", |r| r.method),
-            errors,
-            ms_per_frame: ms,
-            within_uncertainty: within,
-        });
-    }
-    Ok(())
-}
-
-/// A track's row against `truth_floor` (the truth per video frame).
-fn scene_row(
-    scene: &str,
-    method: &'static str,
-    track: &Track,
-    truth_floor: &[DVec2],
-    ms_per_frame: f64,
-) -> SceneRow {
-    let floor: Vec<DVec2> = track.frames.iter().map(|f| f.floor_cm).collect();
-    let uncertainty: Vec<f64> = track.frames.iter().map(|f| f.uncertainty_cm).collect();
-    SceneRow {
-        scene: scene.to_string(),
-        method,
-        errors: track_errors(&floor, truth_floor),
-        ms_per_frame,
-        within_uncertainty: share_within_uncertainty(&floor, &uncertainty, truth_floor),
-    }
-}
-
-/// The rows of scene `name`'s second view (in `dir`): alone against its
-/// own truth (`view2`), and weighed with the first view's fused track
-/// `first` (`2views`, against the first's truth and with its ms a frame
-/// added, `first_figures`). The CLI's check that the two cameras agree
-/// about the floor is not made here: the scenes' cameras are true, or
-/// calibrated from the one board.
-fn second_view_rows(
-    dir: &Path,
-    name: &str,
-    recording: &Recording,
-    board_camera: bool,
-    (first, first_timing): &(Track, VideoTiming),
-    (truth_floor, first_ms): (&[DVec2], f64),
-) -> Result<Vec<SceneRow>, Error> {
-    let (view_track, view_timing, ms_per_frame) = track_second_view(dir, name, recording, board_camera)?;
-    let view_path = dir.join(format!("{name}.truth.csv"));
-    let view_truth = parse_hips_csv(&read_text(&view_path)?, &view_path.display().to_string())?;
-    let view_truth: Vec<DVec2> = view_truth.iter().map(|s| DVec2::new(s.hips_cm.x, s.hips_cm.z)).collect();
-    let mut rows = vec![scene_row(name, "view2", &view_track, &view_truth, ms_per_frame)];
-    let fused = fuse_views(first, first_timing, &[ViewSightings::of(&view_track, view_timing)]);
-    rows.push(scene_row(name, "2views", &fused, truth_floor, first_ms + ms_per_frame));
-    Ok(rows)
-}
-
-/// Scene `name`'s second view in `dir` (its video, camera, background,
-/// and board when `board_camera`) tracked by the fused tracker alone: the
-/// track, its timing, the ms a frame.
-fn track_second_view(
-    dir: &Path,
-    name: &str,
-    recording: &Recording,
-    board_camera: bool,
-) -> Result<(Track, VideoTiming, f64), Error> {
-    let path = |suffix: &str| dir.join(format!("{name}{suffix}"));
-    let true_camera = read_camera(&path(".camera.json"))?;
-    let camera =
-        if board_camera { camera_from_board(&path(".board.png"), Some(&true_camera))? } else { true_camera };
-    let video = scene_video(dir, name)?;
-    let still = path(".background.png");
-    let room = background(still.is_file().then_some(still.as_path()), &video, None)?;
-    let inputs = TakeInputs { recording: recording.clone(), camera, background: room };
-    let (mut job, mut frames) = open_job(inputs, &video, TrackMethod::Fused(FusedParams::default()))?;
-    let (_, ms_per_frame, _) = run_job(&mut job, &mut frames, false)?;
-    let track = job
-        .track()
-        .cloned()
-        .ok_or_else(|| Error::whole(&video.display().to_string(), "the second view was not tracked"))?;
-    Ok((track, job.timing(), ms_per_frame))
-}
-
-fn print_row(row: &SceneRow) {
-    let e = &row.errors;
-    println!(
-        "{:<12} {:<6} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>7.1}% {:>9.2} {:>7}",
-        row.scene,
-        row.method,
-        e.mean_cm,
-        e.median_cm,
-        e.p90_cm,
-        e.max_cm,
-        e.final_cm,
-        100.0 * e.lost_share,
-        row.ms_per_frame,
-        if row.within_uncertainty.is_finite() {
-            format!("{:.1}%", 100.0 * row.within_uncertainty)
-        } else {
-            "—".to_string()
-        }
-    );
 }
