@@ -368,8 +368,9 @@ fn track_writes_a_bvh_and_a_row_per_frame_and_refuses_bad_input() {
 /// `embusen track-takes` on a folder of two takes of walk (links to the
 /// shared files under two names) tracked at once, and a third without a
 /// camera: each take's files the bytes `embusen track` wrote for it alone
-/// (`alone_bvh`, `alone_csv`), the one that could not be tracked named, and
-/// a video with no BVH beside it said to be no take.
+/// (`alone_bvh`, `alone_csv`), the one that could not be tracked named, a
+/// video with no BVH beside it said to be no take, and the takes' folder
+/// refused as the output.
 fn several_takes_at_once_are_each_tracked_as_alone(scene: &Path, alone_bvh: &Path, alone_csv: &str) {
     let takes = Scratch::new("takes");
     let written = Scratch::new("takes-out");
@@ -394,6 +395,11 @@ fn several_takes_at_once_are_each_tracked_as_alone(scene: &Path, alone_bvh: &Pat
     );
     assert!(said.contains("board-video.mp4 is not a take"), "{said}");
     assert!(said.contains("1 of 3 takes failed"), "{said}");
+    // Written into the takes' own folder, a corrected BVH would be read as
+    // a suit recording the next time: refused before anything is tracked.
+    let into_itself = embusen(&["track-takes".as_ref(), takes.as_os_str(), "-o".as_ref(), takes.as_os_str()]);
+    let said = String::from_utf8_lossy(&into_itself.stderr);
+    assert!(!into_itself.status.success() && said.contains("is the output folder too"), "{said}");
     let alone = std::fs::read(alone_bvh).unwrap();
     for name in ["walk", "again"] {
         assert!(std::fs::read(written.join(format!("{name}.bvh"))).unwrap() == alone, "{name}.bvh");

@@ -59,8 +59,9 @@ impl GreyImage {
 
     /// The grey image of a decoded video frame's luma plane `luma` (rows
     /// `stride` bytes apart, the first `width_px` of each used): the grey
-    /// levels `embusen track` reads through `ffmpeg -pix_fmt gray`, so that
-    /// a browser holding the decoder's own planes tracks the same bytes.
+    /// levels `ffmpeg -pix_fmt gray` makes, so that a browser holding the
+    /// decoder's own planes and `embusen track` reading ffmpeg's
+    /// ([`crate::io::video`]) track the same bytes.
     /// Limited-range luma (`full_range` false: 16 black, 235 white, the
     /// video default) is stretched to full as ffmpeg's swscale does,
     /// `⌊((Y − 16) · 510 + 219) / 438⌋` clamped to 0–255 (`tests/image.rs`

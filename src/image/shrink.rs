@@ -23,14 +23,19 @@ impl Shrink {
     /// The image as it is.
     pub const NONE: Shrink = Shrink { quarters: 4 };
 
-    /// `quarters / 4` times each way; `None` below 4 (that would enlarge).
+    /// The most it shrinks: 256 times each way (the resampler's sums,
+    /// `q² · 255`, stay far inside a `u32`).
+    pub const MAX_QUARTERS: u32 = 1024;
+
+    /// `quarters / 4` times each way; `None` below 4 (that would enlarge)
+    /// or above [`Shrink::MAX_QUARTERS`].
     pub fn from_quarters(quarters: u32) -> Option<Shrink> {
-        (quarters >= 4).then_some(Shrink { quarters })
+        (4..=Shrink::MAX_QUARTERS).contains(&quarters).then_some(Shrink { quarters })
     }
 
-    /// `times` times each way (0 is taken as 1).
+    /// `times` times each way (0 is taken as 1, more than 256 as 256).
     pub fn whole(times: u32) -> Shrink {
-        Shrink { quarters: times.max(1) * 4 }
+        Shrink { quarters: times.clamp(1, Shrink::MAX_QUARTERS / 4) * 4 }
     }
 
     /// The factor in quarters.
@@ -81,9 +86,10 @@ impl Taps {
     pub fn new(shrink: Shrink, length_px: u32) -> Taps {
         let q = shrink.quarters as usize;
         let count = shrink.length_px(length_px) as usize;
-        // A span of q quarters starting anywhere in a pixel touches at most
-        // ⌈q/4⌉ + 1 pixels.
-        let stride = q.div_ceil(4) + 1;
+        // The most pixels a span of q quarters touches, over the places in
+        // a pixel the spans start (x · q mod 4, repeating every 4 pixels):
+        // q/4 at a whole factor, 6 at 5.5 times.
+        let stride = (0..4).map(|x| ((x * q) % 4 + q).div_ceil(4)).max().unwrap_or(1);
         let mut first = Vec::with_capacity(count);
         let mut weights = vec![0u32; count * stride];
         for x in 0..count {
@@ -141,6 +147,8 @@ pub(crate) fn area_resampled(
             4 => along_row::<4>(&columns, &column_sums, mean, &mut out),
             5 => along_row::<5>(&columns, &column_sums, mean, &mut out),
             6 => along_row::<6>(&columns, &column_sums, mean, &mut out),
+            7 => along_row::<7>(&columns, &column_sums, mean, &mut out),
+            8 => along_row::<8>(&columns, &column_sums, mean, &mut out),
             _ => out.extend((0..out_w).map(|x| {
                 let (first, weights) = columns.of(x);
                 mean(weights.iter().zip(&column_sums[first..]).map(|(&a, &b)| a * b).sum())
@@ -175,10 +183,11 @@ mod tests {
         // [18, 27), [27, 36) in quarters.
         let taps = Taps::new(Shrink::from_quarters(9).unwrap(), 9);
         assert_eq!(taps.first, [0, 2, 4, 6]);
-        assert_eq!(taps.of(0).1, [4, 4, 1, 0]);
-        assert_eq!(taps.of(1).1, [3, 4, 2, 0]);
-        assert_eq!(taps.of(2).1, [2, 4, 3, 0]);
-        assert_eq!(taps.of(3).1, [1, 4, 4, 0]);
+        assert_eq!(taps.stride, 3);
+        assert_eq!(taps.of(0).1, [4, 4, 1]);
+        assert_eq!(taps.of(1).1, [3, 4, 2]);
+        assert_eq!(taps.of(2).1, [2, 4, 3]);
+        assert_eq!(taps.of(3).1, [1, 4, 4]);
         for x in 0..4 {
             assert_eq!(taps.of(x).1.iter().sum::<u32>(), 9);
         }

@@ -8,8 +8,9 @@
 //! as its luma plane as decoded (`-vf extractplanes=y`), made grey here as
 //! the page makes the browser decoder's planes grey
 //! ([`GreyImage::from_luma`]: the same bytes `-pix_fmt gray` gives, without
-//! ffmpeg converting every pixel); any other kind through `-pix_fmt gray`. ffmpeg turns the picture upright (phone videos carry a
-//! rotation) and the size reported here is the upright one. Frames are the
+//! ffmpeg converting every pixel); any other kind through `-pix_fmt gray`.
+//! ffmpeg turns the picture upright (phone videos carry a rotation) and the
+//! size reported here is the upright one. Frames are the
 //! decoded frames as they are (`-fps_mode passthrough`): frame `i` is at
 //! `i / fps` seconds, exact for the constant-rate video cameras write.
 
@@ -50,14 +51,24 @@ pub struct VideoInfo {
 /// The frames of a video in grey, decoded as they are read.
 pub struct VideoFrames {
     pub info: VideoInfo,
-    /// The frames come as their luma plane: `Some(full_range)`.
-    luma: Option<bool>,
+    /// What ffmpeg streams.
+    streamed: Streamed,
     file: String,
     child: Child,
     stdout: ChildStdout,
     stderr: Option<std::thread::JoinHandle<String>>,
     next_index: usize,
     done: bool,
+}
+
+/// What ffmpeg streams of each frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Streamed {
+    /// Its grey levels (`-pix_fmt gray`).
+    Grey,
+    /// Its luma plane as decoded (`-vf extractplanes=y`), full range or
+    /// limited (16 black, 235 white).
+    LumaPlane { full_range: bool },
 }
 
 /// The message for a program that could not be started.
@@ -74,16 +85,19 @@ fn last_line(stderr: &str) -> &str {
     stderr.lines().rev().map(str::trim).find(|l| !l.is_empty()).unwrap_or("no message")
 }
 
-/// Whether frames in ffmpeg's pixel format `pix_fmt` are read as their
-/// luma plane, and then whether it is full range (`Some(true)`: a `yuvj`
-/// format, or `color_range` `pc`): 8-bit planar YUV only, whose first
-/// plane is the luma at the picture's size; `None` for the rest (10-bit,
-/// RGB, grey, packed), which ffmpeg turns grey.
-fn luma_plane(pix_fmt: &str, color_range: Option<&str>) -> Option<bool> {
+/// What ffmpeg streams of frames in its pixel format `pix_fmt`: the luma
+/// plane for 8-bit planar YUV (whose first plane is the luma at the
+/// picture's size), full range for a `yuvj` format or `color_range` `pc`;
+/// grey levels for the rest (10-bit, RGB, grey, packed), which ffmpeg
+/// turns grey itself.
+fn streamed_as(pix_fmt: &str, color_range: Option<&str>) -> Streamed {
     const PLANAR_YUV_8_BIT: [&str; 6] = ["yuv420p", "yuv422p", "yuv444p", "yuv440p", "yuv411p", "yuv410p"];
     let full_range_format = pix_fmt.strip_prefix("yuvj").map(|rest| format!("yuv{rest}"));
     let format = full_range_format.as_deref().unwrap_or(pix_fmt);
-    PLANAR_YUV_8_BIT.contains(&format).then_some(full_range_format.is_some() || color_range == Some("pc"))
+    if !PLANAR_YUV_8_BIT.contains(&format) {
+        return Streamed::Grey;
+    }
+    Streamed::LumaPlane { full_range: full_range_format.is_some() || color_range == Some("pc") }
 }
 
 /// A rate such as `30000/1001` or `25`; `None` for `0/0` and the like.
@@ -100,9 +114,9 @@ impl Ffmpeg {
         self.probe_stream(path).map(|(info, _)| info)
     }
 
-    /// [`Ffmpeg::probe`], and whether the frames can be read as their luma
-    /// plane ([`luma_plane`]).
-    fn probe_stream(&self, path: &Path) -> Result<(VideoInfo, Option<bool>), Error> {
+    /// [`Ffmpeg::probe`], and what ffmpeg is to stream of each frame
+    /// ([`streamed_as`]).
+    fn probe_stream(&self, path: &Path) -> Result<(VideoInfo, Streamed), Error> {
         let file = path.display().to_string();
         if !path.is_file() {
             return Err(Error::whole(&file, "no such file"));
@@ -146,13 +160,13 @@ impl Ffmpeg {
         let (Ok(width_px @ 1..), Ok(height_px @ 1..)) = (width_px, height_px) else {
             return Err(Error::whole(&file, format!("a video of {width}×{height} pixels")));
         };
-        let luma = field("pix_fmt").and_then(|format| luma_plane(format, field("color_range")));
-        Ok((VideoInfo { width_px, height_px, fps, frame_count }, luma))
+        let streamed = streamed_as(field("pix_fmt").unwrap_or(""), field("color_range"));
+        Ok((VideoInfo { width_px, height_px, fps, frame_count }, streamed))
     }
 
     /// Starts decoding `path` into grey frames (see the module's note).
     pub fn open(&self, path: &Path) -> Result<VideoFrames, Error> {
-        let (info, luma) = self.probe_stream(path)?;
+        let (info, streamed) = self.probe_stream(path)?;
         let file = path.display().to_string();
         let mut command = Command::new(&self.ffmpeg);
         command.args(["-nostdin", "-v", "error", "-i"]).arg(path).args([
@@ -161,7 +175,7 @@ impl Ffmpeg {
             "-fps_mode",
             "passthrough",
         ]);
-        if luma.is_some() {
+        if let Streamed::LumaPlane { .. } = streamed {
             command.args(["-vf", "extractplanes=y"]);
         }
         let mut child = command
@@ -183,7 +197,16 @@ impl Ffmpeg {
             let _ = stderr.read_to_string(&mut text);
             text
         });
-        Ok(VideoFrames { info, luma, file, child, stdout, stderr: Some(stderr), next_index: 0, done: false })
+        Ok(VideoFrames {
+            info,
+            streamed,
+            file,
+            child,
+            stdout,
+            stderr: Some(stderr),
+            next_index: 0,
+            done: false,
+        })
     }
 }
 
@@ -242,9 +265,11 @@ impl VideoFrames {
             })));
         }
         self.next_index += 1;
-        Some(match self.luma {
-            Some(full_range) => GreyImage::from_luma(w, h, &pixels, w as usize, full_range, &self.file),
-            None => GreyImage::new(w, h, pixels, &self.file),
+        Some(match self.streamed {
+            Streamed::LumaPlane { full_range } => {
+                GreyImage::from_luma(w, h, &pixels, w as usize, full_range, &self.file)
+            }
+            Streamed::Grey => GreyImage::new(w, h, pixels, &self.file),
         })
     }
 }
@@ -305,12 +330,13 @@ mod tests {
 
     #[test]
     fn eight_bit_planar_yuv_is_read_as_its_luma_plane() {
-        assert_eq!(luma_plane("yuv420p", Some("unknown")), Some(false));
-        assert_eq!(luma_plane("yuv420p", Some("tv")), Some(false));
-        assert_eq!(luma_plane("yuv444p", Some("pc")), Some(true));
-        assert_eq!(luma_plane("yuvj420p", None), Some(true));
-        for other in ["yuv420p10le", "nv12", "rgb24", "gray", "yuyv422", "yuvj420p10le"] {
-            assert_eq!(luma_plane(other, Some("tv")), None, "{other}");
+        let luma = |full_range| Streamed::LumaPlane { full_range };
+        assert_eq!(streamed_as("yuv420p", Some("unknown")), luma(false));
+        assert_eq!(streamed_as("yuv420p", Some("tv")), luma(false));
+        assert_eq!(streamed_as("yuv444p", Some("pc")), luma(true));
+        assert_eq!(streamed_as("yuvj420p", None), luma(true));
+        for other in ["yuv420p10le", "nv12", "rgb24", "gray", "yuyv422", "yuvj420p10le", ""] {
+            assert_eq!(streamed_as(other, Some("tv")), Streamed::Grey, "{other}");
         }
     }
 

@@ -169,7 +169,8 @@ pub struct FusedPrediction {
 /// What the search and the filter made of a frame.
 #[derive(Clone, Copy, Debug, Default)]
 struct Measured {
-    /// Where the filter predicted the body.
+    /// Where the filter predicted the body (before a first fit: where the
+    /// frame's best guess put it).
     prediction_cm: DVec2,
     /// Where the frame's terms were made and the search centred: the
     /// prediction, or where a lost filter's best guess put the body.
@@ -325,7 +326,8 @@ impl FusedTracker {
     }
 
     /// A frame's second step, video frame `i` read: `body` (posed as the
-    /// suit says) searched for around the prediction in `features`
+    /// suit says) searched for around the prediction (lost: around the
+    /// frame's best guess) in `features`
     /// (computed as `prediction` asked), the fit measured into the filter,
     /// the path search's candidates recorded.
     pub fn frame(

@@ -2,8 +2,9 @@
 //! tall in a 2-megapixel frame is placed as well from a frame shrunk five
 //! times each way, at a twenty-fifth of the cost of every stage that
 //! scales with its pixels (the background subtraction, Canny, the distance
-//! transforms, each silhouette tried). The tracker chooses a frame's
-//! factor from the body's predicted distance before reading it
+//! transforms, each silhouette tried). The tracker chooses how much a
+//! frame is shrunk (a [`Shrink`], in half steps) from the body's predicted
+//! distance before reading it
 //! ([`working_scale`]); the frame, the background and the camera are
 //! shrunk together ([`crate::image::GreyImage::shrunk`],
 //! [`crate::camera::Camera::shrunk`]), so everything after them is in the
@@ -45,8 +46,8 @@ pub const MIN_WORKING_SIDE_PX: u32 = 160;
 /// is `depth_cm` from the camera: as much, in quarters
 /// ([`Shrink`]), as keeps a working pixel within [`WORKING_PIXEL_CM`] at
 /// the body and each side at least [`MIN_WORKING_SIDE_PX`]. A body 1000 px
-/// tall in a 1080×1920 frame is read at a fifth of it; one 200 px tall is
-/// read whole.
+/// tall in a 1080×1920 frame is read at 5.5 times less each way (no side
+/// under 160 px); one 200 px tall is read whole.
 pub fn working_scale(camera: &Camera, depth_cm: f64) -> Shrink {
     let pixel_cm = depth_cm / camera.intrinsics.fx_px.max(camera.intrinsics.fy_px);
     let by_pixel = (4.0 * WORKING_PIXEL_CM / pixel_cm / STEP_QUARTERS as f64).floor() * STEP_QUARTERS as f64;
@@ -59,10 +60,11 @@ pub fn working_scale(camera: &Camera, depth_cm: f64) -> Shrink {
     }
 }
 
-/// `shrink` when it is one [`working_scale`] can give for `camera`: none,
-/// or one that leaves each side at least [`MIN_WORKING_SIDE_PX`]; an error
-/// for `label` otherwise (a request from elsewhere — the page's second
-/// worker — is checked before anything is shrunk by it).
+/// `shrink` when it leaves each side of `camera`'s images at least
+/// [`MIN_WORKING_SIDE_PX`] (or keeps them whole), as every
+/// [`working_scale`] does; an error for `label` otherwise (a request from
+/// elsewhere — the page's second worker — is checked before anything is
+/// shrunk by it).
 pub fn checked_working_scale(camera: &Camera, shrink: Shrink, label: &str) -> Result<Shrink, Error> {
     let side = camera.image_size.width_px.min(camera.image_size.height_px);
     if shrink.is_none() || shrink.length_px(side) >= MIN_WORKING_SIDE_PX {
@@ -165,7 +167,7 @@ mod tests {
         let shrink = |quarters| Shrink::from_quarters(quarters).unwrap();
         assert_eq!(checked_working_scale(&portrait, Shrink::NONE, "frame 3").unwrap(), Shrink::NONE);
         assert_eq!(checked_working_scale(&portrait, shrink(26), "frame 3").unwrap(), shrink(26));
-        for wrong in [28, 4000] {
+        for wrong in [28, 1024] {
             let said =
                 checked_working_scale(&portrait, shrink(wrong), "video frame 3").unwrap_err().to_string();
             assert!(said.contains("video frame 3") && said.contains(&format!("{wrong}")), "{said}");

@@ -49,8 +49,8 @@ struct Take {
     name: String,
     video: PathBuf,
     bvh: PathBuf,
-    /// `NAME.camera.json`, or failing that `NAME.board.png`: `None` when
-    /// neither is there.
+    /// `NAME.camera.json` when there is one (it is used), and
+    /// `NAME.board.png` (used where there is no camera).
     camera: Option<PathBuf>,
     board: Option<PathBuf>,
     background: Option<PathBuf>,
@@ -73,7 +73,13 @@ fn takes_in(folder: &Path) -> Result<Vec<Take>, Error> {
         })
         .collect();
     videos.sort();
-    videos.dedup_by(|later, first| later.0 == first.0);
+    videos.dedup_by(|later, first| {
+        let same_take = later.0 == first.0;
+        if same_take {
+            eprintln!("note: {} is left: {} is this take's video", later.2.display(), first.2.display());
+        }
+        same_take
+    });
     let existing = |name: &str, endings: &[&str]| {
         endings.iter().map(|ending| folder.join(format!("{name}{ending}"))).find(|p| p.is_file())
     };
@@ -138,8 +144,24 @@ fn track_takes(args: &TrackTakesArgs) -> Result<(), Error> {
             "is not a folder to write the takes into (nothing was tracked)",
         ));
     }
-    let mut takes = Vec::new();
+    // Each folder once, and never the output: a take's corrected BVH
+    // would sit where its suit recording is, and be read as one next time.
+    let output = args.output.canonicalize().unwrap_or_else(|_| args.output.clone());
+    let mut folders: Vec<PathBuf> = Vec::new();
     for folder in &args.folders {
+        let canonical = folder.canonicalize().unwrap_or_else(|_| folder.clone());
+        if canonical == output {
+            return Err(Error::whole(
+                &folder.display().to_string(),
+                "is the output folder too: write the takes into another folder (nothing was tracked)",
+            ));
+        }
+        if !folders.contains(&canonical) {
+            folders.push(canonical);
+        }
+    }
+    let mut takes = Vec::new();
+    for folder in &folders {
         takes.extend(takes_in(folder)?);
     }
     // Two takes of one name would write the same files.
@@ -159,11 +181,13 @@ fn track_takes(args: &TrackTakesArgs) -> Result<(), Error> {
     println!("{} takes, {at_once} at once", takes.len());
     let failed = track_at_once(&takes, at_once, |take| {
         let said = format!("{}: ", take.name);
-        track_args_of(take, &args.output, args.method).and_then(|track_args| track(&track_args, &said, false))
+        let tracked = track_args_of(take, &args.output, args.method)
+            .and_then(|track_args| track(&track_args, &said, false));
+        if let Err(e) = &tracked {
+            eprintln!("error: {said}{e}");
+        }
+        tracked
     });
-    for (take, e) in &failed {
-        eprintln!("error: {}: {e}", take.name);
-    }
     if failed.is_empty() {
         return Ok(());
     }
@@ -176,7 +200,8 @@ fn track_takes(args: &TrackTakesArgs) -> Result<(), Error> {
 
 /// Runs `track_one` on every take, `at_once` threads taking the next take
 /// as each finishes one; the takes that failed, with their errors, in
-/// order.
+/// order. A take that panics fails alone: the others are tracked and the
+/// failures listed.
 fn track_at_once(
     takes: &[Take],
     at_once: usize,
@@ -188,7 +213,11 @@ fn track_at_once(
         for _ in 0..at_once.max(1) {
             scope.spawn(|| {
                 while let Some(take) = takes.get(next.fetch_add(1, Ordering::Relaxed)) {
-                    if let Err(e) = track_one(take) {
+                    let tracked = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| track_one(take)))
+                        .unwrap_or_else(|_| {
+                            Err(Error::whole(&take.video.display().to_string(), "its tracking thread failed"))
+                        });
+                    if let Err(e) = tracked {
                         failed.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).push((take, e));
                     }
                 }
