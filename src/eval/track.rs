@@ -24,6 +24,24 @@ pub struct TrackErrors {
     pub lost_share: f64,
 }
 
+impl TrackErrors {
+    /// Each figure's median over `scenes` (NaN where none has it): the row
+    /// a table of scenes ends with.
+    pub fn medians(scenes: &[&TrackErrors]) -> TrackErrors {
+        let figure = |k: usize| median(&scenes.iter().map(|e| e.figures()[k]).collect::<Vec<_>>());
+        TrackErrors::from_figures(std::array::from_fn(figure))
+    }
+
+    /// The figures in the order of the fields.
+    fn figures(&self) -> [f64; 6] {
+        [self.mean_cm, self.median_cm, self.p90_cm, self.max_cm, self.final_cm, self.lost_share]
+    }
+
+    fn from_figures([mean_cm, median_cm, p90_cm, max_cm, final_cm, lost_share]: [f64; 6]) -> TrackErrors {
+        TrackErrors { mean_cm, median_cm, p90_cm, max_cm, final_cm, lost_share }
+    }
+}
+
 /// The horizontal distance (cm) of `track` from `truth`, floor positions
 /// (x, z, cm) per frame, over the frames both have.
 pub fn frame_errors_cm(track: &[DVec2], truth: &[DVec2]) -> Vec<f64> {
@@ -69,6 +87,21 @@ pub fn share_within_uncertainty(track: &[DVec2], uncertainty_cm: &[f64], truth: 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_medians_over_scenes_are_each_figures_median() {
+        let scene = |k: f64| TrackErrors {
+            mean_cm: k,
+            median_cm: 2.0 * k,
+            p90_cm: 3.0 * k,
+            max_cm: 4.0 * k,
+            final_cm: 5.0 * k,
+            lost_share: 0.1 * k,
+        };
+        let (a, b, c) = (scene(1.0), scene(2.0), scene(7.0));
+        assert_eq!(TrackErrors::medians(&[&c, &a, &b]), scene(2.0));
+        assert!(TrackErrors::medians(&[]).mean_cm.is_nan());
+    }
 
     #[test]
     fn errors_of_a_track_against_its_truth() {

@@ -206,15 +206,7 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
         if of.is_empty() {
             continue;
         }
-        let m = |get: fn(&TrackErrors) -> f64| median(&of.iter().map(|r| get(&r.errors)).collect::<Vec<_>>());
-        let errors = TrackErrors {
-            mean_cm: m(|e| e.mean_cm),
-            median_cm: m(|e| e.median_cm),
-            p90_cm: m(|e| e.p90_cm),
-            max_cm: m(|e| e.max_cm),
-            final_cm: m(|e| e.final_cm),
-            lost_share: m(|e| e.lost_share),
-        };
+        let errors = TrackErrors::medians(&of.iter().map(|r| &r.errors).collect::<Vec<_>>());
         let ms = median(&of.iter().map(|r| r.ms_per_frame).collect::<Vec<_>>());
         let within = median(&of.iter().map(|r| r.within_uncertainty).collect::<Vec<_>>());
         print_row(&SceneRow {
