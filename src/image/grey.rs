@@ -108,29 +108,9 @@ impl GreyImage {
         if shrink.is_none() {
             return self.clone();
         }
-        let Some(times) = shrink.whole_times() else {
-            let (width_px, height_px, pixels) =
-                area_resampled(&self.pixels, self.width_px, self.height_px, shrink);
-            return GreyImage { width_px, height_px, pixels };
-        };
-        // A whole factor: blocks summed straight, no weights (the same
-        // bytes as the weighted sum).
-        let s = times as usize;
-        let (w, h) = (self.width_px as usize, self.height_px as usize);
-        let (out_w, out_h) = (w / s, h / s);
-        let (area, half) = ((s * s) as u32, (s * s / 2) as u32);
-        let mut pixels = Vec::with_capacity(out_w * out_h);
-        let mut sums = vec![0u32; out_w];
-        for block_row in 0..out_h {
-            sums.fill(0);
-            for row in self.pixels[block_row * s * w..].chunks(w).take(s) {
-                for (sum, block) in sums.iter_mut().zip(row.chunks_exact(s)) {
-                    *sum += block.iter().map(|&v| v as u32).sum::<u32>();
-                }
-            }
-            pixels.extend(sums.iter().map(|&sum| ((sum + half) / area) as u8));
-        }
-        GreyImage { width_px: out_w as u32, height_px: out_h as u32, pixels }
+        let (width_px, height_px, pixels) =
+            area_resampled(&self.pixels, self.width_px, self.height_px, shrink);
+        GreyImage { width_px, height_px, pixels }
     }
 
     /// An image of one grey level.

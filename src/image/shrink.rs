@@ -48,11 +48,6 @@ impl Shrink {
         self.quarters as f64 / 4.0
     }
 
-    /// How many times each way, when that is a whole number.
-    pub fn whole_times(self) -> Option<u32> {
-        self.quarters.is_multiple_of(4).then_some(self.quarters / 4)
-    }
-
     /// Whether the image is kept as it is.
     pub fn is_none(self) -> bool {
         self.quarters == 4
