@@ -356,7 +356,12 @@ impl SilhouetteRenderer {
             self.polygon_points.push(self.pixel(p));
             if self.lens_bends {
                 let q = self.clip[(i + 1) % count];
-                let pieces = ((q - p).length() / longest_ideal).ceil();
+                // Most edges (all of a sphere's) are far shorter than the
+                // longest kept: those skip the square root and the ceiling.
+                if (q - p).length_squared() < 0.81 * longest_ideal * longest_ideal {
+                    continue;
+                }
+                let pieces = ceil((q - p).length() / longest_ideal);
                 if pieces > 1.0 {
                     let pieces = pieces.min(256.0) as usize;
                     for k in 1..pieces {
@@ -452,14 +457,21 @@ fn fill_convex(
 ) {
     let (top, bottom) = (bounds.top as f64, bounds.bottom as f64);
     let mut used = (usize::MAX, 0);
-    for (i, &p) in points.iter().enumerate() {
-        let q = points[(i + 1) % points.len()];
-        if p.y == q.y {
+    let Some(&last) = points.last() else { return };
+    // Each edge from the one before it to it; a vertex's row ceiling is
+    // computed once, not once per edge (the rows are order-free).
+    let (mut p, mut p_row) = (last, ceil(last.y));
+    for &q in points {
+        let q_row = ceil(q.y);
+        let ((a, a_row), (b, b_row)) =
+            if p.y < q.y { ((p, p_row), (q, q_row)) } else { ((q, q_row), (p, p_row)) };
+        let flat = p.y == q.y;
+        (p, p_row) = (q, q_row);
+        if flat {
             continue;
         }
-        let (a, b) = if p.y < q.y { (p, q) } else { (q, p) };
-        let first = ceil(a.y).max(top);
-        let end = ceil(b.y).min(bottom);
+        let first = a_row.max(top);
+        let end = b_row.min(bottom);
         if first >= end {
             continue;
         }
@@ -468,8 +480,15 @@ fn fill_convex(
         used = (used.0.min(r0), used.1.max(r1));
         for (k, row) in rows[r0..r1].iter_mut().enumerate() {
             let x = a.x + ((first + k as f64) - a.y) * slope;
-            row.0 = row.0.min(x);
-            row.1 = row.1.max(x);
+            // As `min` and `max` (a NaN crossing changes nothing; the
+            // rows are never NaN), without their NaN handling: one
+            // instruction each here and in wasm.
+            if x < row.0 {
+                row.0 = x;
+            }
+            if x > row.1 {
+                row.1 = x;
+            }
         }
     }
     if used.0 >= used.1 {
