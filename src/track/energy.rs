@@ -171,41 +171,53 @@ impl<'a> FrameTerms<'a> {
 
     /// How `silhouette` fits; `None` when it covers no pixel of the image.
     pub fn fit(&self, silhouette: &Silhouette) -> Option<SilhouetteFit> {
+        self.fit_and_foreground(silhouette).map(|(fit, _)| fit)
+    }
+
+    /// [`FrameTerms::fit`], and the foreground pixels under the silhouette
+    /// and its area (px), as [`FrameTerms::foreground_under`] counts them.
+    fn fit_and_foreground(&self, silhouette: &Silhouette) -> Option<(SilhouetteFit, (u64, u64))> {
         if silhouette.image_size.width_px != self.width_px
             || silhouette.image_size.height_px != self.height_px
         {
             return None;
         }
-        let contour = silhouette.contour();
-        if contour.is_empty() {
-            return None;
-        }
         let w = self.width_px as usize;
-        let (mut chamfer, mut truncated, mut near) = (0.0f64, 0.0f64, 0usize);
-        for [x, y] in &contour {
-            let d = self.edge_distance_px[*y as usize * w + *x as usize];
+        let (mut chamfer, mut truncated, mut near, mut contour_px) = (0.0f64, 0.0f64, 0usize, 0usize);
+        silhouette.visit_contour(|x, y| {
+            let d = self.edge_distance_px[y as usize * w + x as usize];
             chamfer += d as f64;
             truncated += d.min(self.truncation_px) as f64;
             near += usize::from(d <= NEAR_EDGE_PX);
+            contour_px += 1;
+        });
+        if contour_px == 0 {
+            return None;
         }
-        let mut outside = 0.0f64;
+        let (mut outside, mut on_foreground, mut area) = (0.0f64, 0u64, 0u64);
         for span in &silhouette.spans {
-            outside += match self.prefix_row(span.row) {
-                Some(row) => self.sums_to(row, span.end).0 - self.sums_to(row, span.start).0,
-                None => (span.end - span.start) as f64 * self.truncation_px as f64,
-            };
+            match self.prefix_row(span.row) {
+                Some(row) => {
+                    let ((end_sum, end_on), (start_sum, start_on)) =
+                        (self.sums_to(row, span.end), self.sums_to(row, span.start));
+                    outside += end_sum - start_sum;
+                    on_foreground += (end_on - start_on) as u64;
+                }
+                None => outside += (span.end - span.start) as f64 * self.truncation_px as f64,
+            }
+            area += (span.end - span.start) as u64;
         }
-        let (on_foreground, area) = self.foreground_under(silhouette);
-        let n = contour.len() as f64;
-        Some(SilhouetteFit {
-            contour_px: contour.len(),
+        let n = contour_px as f64;
+        let fit = SilhouetteFit {
+            contour_px,
             chamfer_px: chamfer / n,
             truncated_chamfer_px: truncated / n,
             outside_px: outside / area.max(1) as f64,
             near_edge_share: near as f64 / n,
             on_foreground_share: on_foreground as f64 / area.max(1) as f64,
             uncovered_px: 0.0,
-        })
+        };
+        Some((fit, (on_foreground, area)))
     }
 
     /// How `silhouette` fits, with the foreground it leaves uncovered in the
@@ -220,11 +232,10 @@ impl<'a> FrameTerms<'a> {
         widened: &Silhouette,
         band_px: f64,
     ) -> Option<SilhouetteFit> {
-        let fit = self.fit(silhouette)?;
+        let (fit, (inner_on, inner_area)) = self.fit_and_foreground(silhouette)?;
         if widened.image_size != silhouette.image_size {
             return Some(fit);
         }
-        let (inner_on, inner_area) = self.foreground_under(silhouette);
         let (outer_on, outer_area) = self.foreground_under(widened);
         let band_area = outer_area.saturating_sub(inner_area);
         let band_on = outer_on.saturating_sub(inner_on);

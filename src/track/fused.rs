@@ -568,8 +568,19 @@ impl<'a> FrameScoring<'a> {
 
     /// The least energy within `radius_cm` of `around_cm`, and its fit.
     fn search(&mut self, around_cm: DVec2, radius_cm: f64) -> Option<(DVec2, SilhouetteFit)> {
-        let found = coarse_to_fine(around_cm, radius_cm, self.params.resolution_cm, |p| self.energy(p));
-        found.and_then(|(p, _)| self.scorer.banded_fit(&self.terms, &self.banded, p).map(|fit| (p, fit)))
+        // The search keeps the first of the least energies; so does this,
+        // with its fit, rather than render the winner again.
+        let mut best: Option<(f64, SilhouetteFit)> = None;
+        let (params, scorer, terms, banded) = (&self.params, &mut *self.scorer, &self.terms, &self.banded);
+        let found = coarse_to_fine(around_cm, radius_cm, params.resolution_cm, |p| {
+            let fit = scorer.banded_fit(terms, banded, p);
+            let energy = energy_of(fit.as_ref(), params);
+            if let Some(fit) = fit.filter(|_| energy.is_finite() && best.is_none_or(|(b, _)| energy < b)) {
+                best = Some((energy, fit));
+            }
+            energy
+        });
+        found.zip(best).map(|((p, _), (_, fit))| (p, fit))
     }
 
     /// The believable `fit` at `p` as a measurement: its covariance, along
@@ -732,9 +743,12 @@ fn fused_energy(
     floor_cm: DVec2,
     params: &FusedParams,
 ) -> f64 {
-    scorer
-        .banded_fit(terms, body, floor_cm)
-        .map_or(f64::NAN, |f| f.fused_energy(params.mask_weight, params.uncovered_weight))
+    energy_of(scorer.banded_fit(terms, body, floor_cm).as_ref(), params)
+}
+
+/// The fused energy of a fit; NaN for none (the body not in the image).
+fn energy_of(fit: Option<&SilhouetteFit>, params: &FusedParams) -> f64 {
+    fit.map_or(f64::NAN, |f| f.fused_energy(params.mask_weight, params.uncovered_weight))
 }
 
 /// `body` of `shape` with its band, `depth_cm` from `camera`; no band

@@ -99,6 +99,14 @@ impl Silhouette {
     /// covered, in raster order, as `[x, y]`. A neighbour off the image
     /// does not count: where the image cuts the body, the cut is no edge.
     pub fn contour(&self) -> Vec<[u32; 2]> {
+        let mut out = Vec::new();
+        self.visit_contour(|x, y| out.push([x, y]));
+        out
+    }
+
+    /// Calls `visit(x, y)` on each pixel of [`Silhouette::contour`], in its
+    /// order, without collecting them (an energy reads each once).
+    pub fn visit_contour(&self, mut visit: impl FnMut(u32, u32)) {
         // From the spans alone: a span's pixels on the contour are its ends
         // and what the rows above and below leave uncovered of it, found by
         // interval arithmetic — a few steps a span, not a test a pixel.
@@ -120,7 +128,6 @@ impl Silhouette {
                 _ => empty,
             })
         };
-        let mut out = Vec::new();
         let mut xs: Vec<u32> = Vec::new();
         for (r, &(y, from, to)) in rows.iter().enumerate() {
             let up = neighbour(r.checked_sub(1), y.checked_sub(1));
@@ -138,10 +145,11 @@ impl Silhouette {
                 }
                 xs.sort_unstable();
                 xs.dedup();
-                out.extend(xs.iter().map(|&x| [x, y]));
+                for &x in &xs {
+                    visit(x, y);
+                }
             }
         }
-        out
     }
 
     /// The mask over the whole image, row by row (1 covered, 0 not).
