@@ -196,8 +196,8 @@ pub struct SilhouetteRenderer {
     clip: Vec<DVec2>,
     clip_spare: Vec<DVec2>,
     rows: Vec<(f64, f64)>,
-    /// Per row of the polygons' box, the column ranges each polygon
-    /// covers there, merged into spans once all are in.
+    /// Per row of the polygons' box, the union of the column ranges the
+    /// polygons drawn so far cover there, as runs ([`add_range`]).
     row_ranges: Vec<Vec<(u32, u32)>>,
 }
 
@@ -370,8 +370,8 @@ impl SilhouetteRenderer {
                     continue;
                 }
                 let pieces = ceil((q - p).length() / longest_ideal);
-                if pieces > 1.0 {
-                    let pieces = pieces.min(256.0) as usize;
+                if pieces > 1 {
+                    let pieces = pieces.min(256) as usize;
                     for k in 1..pieces {
                         let t = k as f64 / pieces as f64;
                         self.polygon_points.push(self.pixel(p + (q - p) * t));
@@ -422,28 +422,15 @@ impl SilhouetteRenderer {
     }
 }
 
-/// `out`'s spans and tight bounds from the column ranges of each row
-/// (`row_ranges[k]` those of image row `top + k`, emptied here): per row,
-/// ranges that overlap or touch are one span.
+/// `out`'s spans and tight bounds from each row's runs (`row_ranges[k]`
+/// those of image row `top + k`, kept by [`add_range`]; emptied here).
 fn merge_spans(row_ranges: &mut [Vec<(u32, u32)>], top: u32, out: &mut Silhouette) {
     out.spans.clear();
     let (mut left, mut right) = (u32::MAX, 0);
     for (ranges, row) in row_ranges.iter_mut().zip(top..) {
-        ranges.sort_unstable();
-        let mut ranges = ranges.drain(..);
-        let Some(mut span) = ranges.next() else { continue };
-        // Sorted: the row's first range starts leftmost.
-        left = left.min(span.0);
-        for (start, end) in ranges {
-            if start <= span.1 {
-                span.1 = span.1.max(end);
-            } else {
-                out.spans.push(Span { row, start: span.0, end: span.1 });
-                span = (start, end);
-            }
-        }
-        out.spans.push(Span { row, start: span.0, end: span.1 });
-        right = right.max(span.1);
+        let (Some(first), Some(last)) = (ranges.first(), ranges.last()) else { continue };
+        (left, right) = (left.min(first.0), right.max(last.1));
+        out.spans.extend(ranges.drain(..).map(|(start, end)| Span { row, start, end }));
     }
     out.bounds = match (out.spans.first(), out.spans.last()) {
         (Some(first), Some(last)) => PixelBox { left, top: first.row, right, bottom: last.row + 1 },
@@ -451,9 +438,31 @@ fn merge_spans(row_ranges: &mut [Vec<(u32, u32)>], top: u32, out: &mut Silhouett
     };
 }
 
+/// Adds columns `start..end` to `ranges`, one row's union so far: left to
+/// right, disjoint and not touching. A range that overlaps or touches some
+/// of them becomes one with them, so the union is kept as it grows (a row
+/// holds a few runs; the ranges drawn on it, many more).
+fn add_range(ranges: &mut Vec<(u32, u32)>, start: u32, end: u32) {
+    // The first run that reaches the new range (or lies past it) ...
+    let first = ranges.iter().position(|r| r.1 >= start).unwrap_or(ranges.len());
+    // ... and the runs from there that start before its end: all one now.
+    let mut merged = (start, end);
+    let mut past = first;
+    while let Some(&(s, e)) = ranges.get(past).filter(|r| r.0 <= end) {
+        merged = (merged.0.min(s), merged.1.max(e));
+        past += 1;
+    }
+    if past == first {
+        ranges.insert(first, merged);
+    } else {
+        ranges[first] = merged;
+        ranges.drain(first + 1..past);
+    }
+}
+
 /// The pixels whose centres lie in the convex polygon `points` (pixels),
-/// as a column range per row pushed onto `row_ranges` (row `bounds.top + k`
-/// at `k`); `rows` is scratch of `bounds.height()` entries, left as
+/// as a column range per row added to `row_ranges` (row `bounds.top + k`
+/// at `k`, [`add_range`]); `rows` is scratch of `bounds.height()` entries, left as
 /// `(∞, −∞)`. Each edge gives the crossing of every row it spans,
 /// `top ≤ v < bottom` (so a row through a vertex is counted once), and each
 /// row covers from its leftmost to its rightmost crossing, `left ≤ u < right`.
@@ -463,7 +472,7 @@ fn fill_convex(
     rows: &mut [(f64, f64)],
     row_ranges: &mut [Vec<(u32, u32)>],
 ) {
-    let (top, bottom) = (bounds.top as f64, bounds.bottom as f64);
+    let (top, bottom) = (i64::from(bounds.top), i64::from(bounds.bottom));
     let mut used = (usize::MAX, 0);
     let Some(&last) = points.last() else { return };
     // Each edge from the one before it to it; a vertex's row ceiling is
@@ -484,10 +493,11 @@ fn fill_convex(
             continue;
         }
         let slope = (b.x - a.x) / (b.y - a.y);
+        // Within the bounds: 0 ≤ first − top < end − top ≤ their height.
         let (r0, r1) = ((first - top) as usize, (end - top) as usize);
         used = (used.0.min(r0), used.1.max(r1));
-        for (k, row) in rows[r0..r1].iter_mut().enumerate() {
-            let x = a.x + ((first + k as f64) - a.y) * slope;
+        for (v, row) in (first..end).zip(&mut rows[r0..r1]) {
+            let x = a.x + (v as f64 - a.y) * slope;
             // As `min` and `max` (a NaN crossing changes nothing; the
             // rows are never NaN), without their NaN handling: one
             // instruction each here and in wasm.
@@ -502,24 +512,26 @@ fn fill_convex(
     if used.0 >= used.1 {
         return;
     }
-    let (left, right) = (bounds.left as f64, bounds.right as f64);
+    let (left, right) = (i64::from(bounds.left), i64::from(bounds.right));
     for (row, ranges) in rows[used.0..used.1].iter_mut().zip(&mut row_ranges[used.0..used.1]) {
         let (x0, x1) = *row;
         *row = (f64::INFINITY, f64::NEG_INFINITY);
         let start = ceil(x0).max(left);
         let end = ceil(x1).min(right);
         if start < end {
-            ranges.push((start as u32, end as u32));
+            // Within the bounds, so within u32.
+            add_range(ranges, start as u32, end as u32);
         }
     }
 }
 
-/// The least whole number not below `x`, for `|x| < 2⁵²` (the pixels' range,
-/// and more): `f64::ceil` is a library call on x86-64 without SSE 4.1, and
-/// this is the hot loop. Exact, so the same on every target.
-fn ceil(x: f64) -> f64 {
-    let toward_zero = x as i64 as f64;
-    if toward_zero < x { toward_zero + 1.0 } else { toward_zero }
+/// The least whole number not below `x`: exact, so the same on every
+/// target (`f64::ceil` is a library call on x86-64 without SSE 4.1, and
+/// this is the hot loop). Saturates beyond `i64`'s range (an infinity
+/// included); NaN gives 0.
+fn ceil(x: f64) -> i64 {
+    let toward_zero = x as i64;
+    toward_zero.saturating_add(i64::from((toward_zero as f64) < x))
 }
 
 /// The part of the polygon `points` on one side of the line `p[axis] = bound`
@@ -577,4 +589,38 @@ fn bridges((c1, r1): (DVec3, f64), (c2, r2): (DVec3, f64)) -> Option<[DVec3; 4]>
 /// renderer made for one call; keep a [`SilhouetteRenderer`] to render many).
 pub fn silhouette(camera: &Camera, body: &PosedBody, shift_cm: DVec3) -> Silhouette {
     SilhouetteRenderer::new(camera).render(body, shift_cm)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Ranges added in any order, overlapping, touching or apart, leave the
+    /// runs a row of pixels covered by any of them has.
+    #[test]
+    fn a_rows_runs_are_the_union_of_its_ranges() {
+        let mut state = 12345u64;
+        let mut next = |n: u32| {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((state >> 33) % u64::from(n)) as u32
+        };
+        for _ in 0..2000 {
+            let (mut runs, mut covered) = (Vec::new(), [false; 40]);
+            for _ in 0..next(8) {
+                let start = next(38);
+                let end = start + 1 + next(40 - start - 1);
+                add_range(&mut runs, start, end);
+                covered[start as usize..end as usize].fill(true);
+            }
+            let mut expected = Vec::new();
+            for (x, &on) in covered.iter().enumerate() {
+                match expected.last_mut() {
+                    Some((_, end)) if on && *end == x as u32 => *end += 1,
+                    _ if on => expected.push((x as u32, x as u32 + 1)),
+                    _ => {}
+                }
+            }
+            assert_eq!(runs, expected);
+        }
+    }
 }
