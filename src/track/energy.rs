@@ -59,6 +59,61 @@ pub struct FrameTerms<'a> {
     truncation_px: f32,
 }
 
+/// The pixels `from..to` of a frame, for those near the foreground: on it,
+/// or less than `truncation_px` from it. Read a block of 16 at a time
+/// without stopping (what vectorises), then pixel by pixel in the block
+/// that has one.
+struct NearScan<'s> {
+    distance: &'s [f32],
+    on: &'s [bool],
+    truncation_px: f32,
+    from: usize,
+    to: usize,
+}
+
+impl NearScan<'_> {
+    const BLOCK: usize = 16;
+
+    fn near(&self, i: usize) -> bool {
+        self.distance[i] < self.truncation_px || self.on[i]
+    }
+
+    fn block_has_one(&self, start: usize, end: usize) -> bool {
+        let near = self.distance[start..end].iter().fold(false, |a, &d| a | (d < self.truncation_px));
+        near | self.on[start..end].iter().fold(false, |a, &o| a | o)
+    }
+
+    fn any(&self) -> bool {
+        self.first().is_some()
+    }
+
+    /// The first pixel near the foreground.
+    fn first(&self) -> Option<usize> {
+        let mut start = self.from;
+        while start < self.to {
+            let end = (start + Self::BLOCK).min(self.to);
+            if self.block_has_one(start, end) {
+                return (start..end).find(|&i| self.near(i));
+            }
+            start = end;
+        }
+        None
+    }
+
+    /// The last pixel near the foreground.
+    fn last(&self) -> Option<usize> {
+        let mut end = self.to;
+        while end > self.from {
+            let start = end.saturating_sub(Self::BLOCK).max(self.from);
+            if self.block_has_one(start, end) {
+                return (start..end).rev().find(|&i| self.near(i));
+            }
+            end = start;
+        }
+        None
+    }
+}
+
 /// A silhouette's fit, its parts kept apart for the confidence.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SilhouetteFit {
@@ -96,41 +151,40 @@ impl<'a> FrameTerms<'a> {
         truncation_px: f32,
     ) -> FrameTerms<'a> {
         let (w, h) = (edge_distance.width_px as usize, edge_distance.height_px as usize);
-        let near = |y: usize| {
-            outside_distance.distance_px[y * w..(y + 1) * w].iter().any(|&d| d < truncation_px)
-                || foreground.on[y * w..(y + 1) * w].iter().any(|&on| on)
-        };
+        let (distance, on) = (&outside_distance.distance_px[..], &foreground.on[..]);
+        let near_in = |from: usize, to: usize| NearScan { distance, on, truncation_px, from, to };
+        let near = |y: usize| near_in(y * w, (y + 1) * w).any();
         let (prefix_top, prefix_rows) = match ((0..h).find(|&y| near(y)), (0..h).rev().find(|&y| near(y))) {
             (Some(top), Some(bottom)) => (top, bottom + 1 - top),
             _ => (0, 0),
         };
-        let near_at = |i: usize| outside_distance.distance_px[i] < truncation_px || foreground.on[i];
         let (mut prefix_left, mut prefix_right) = (w, 0);
         for y in prefix_top..prefix_top + prefix_rows {
             let row = y * w;
-            if let Some(x) = (0..prefix_left).find(|&x| near_at(row + x)) {
-                prefix_left = x;
+            if let Some(i) = near_in(row, row + prefix_left).first() {
+                prefix_left = i - row;
             }
-            if let Some(x) = (prefix_right.max(prefix_left)..w).rev().find(|&x| near_at(row + x)) {
-                prefix_right = x + 1;
+            let from = row + prefix_right.max(prefix_left);
+            if let Some(i) = near_in(from, row + w).last() {
+                prefix_right = i - row + 1;
             }
         }
         let prefix_right = prefix_right.max(prefix_left).min(w);
         let prefix_left = prefix_left.min(prefix_right);
         let columns = prefix_right - prefix_left;
-        let mut outside_prefix = vec![0.0; (columns + 1) * prefix_rows];
-        let mut foreground_prefix = vec![0u32; (columns + 1) * prefix_rows];
+        let mut outside_prefix = Vec::with_capacity((columns + 1) * prefix_rows);
+        let mut foreground_prefix = Vec::with_capacity((columns + 1) * prefix_rows);
         let before = prefix_left as f64 * truncation_px as f64;
-        for k in 0..prefix_rows {
-            let y = prefix_top + k;
-            let row = &outside_distance.distance_px[y * w + prefix_left..y * w + prefix_right];
-            let on = &foreground.on[y * w + prefix_left..y * w + prefix_right];
-            let prefix = k * (columns + 1);
-            outside_prefix[prefix] = before;
-            for x in 0..columns {
-                outside_prefix[prefix + x + 1] =
-                    outside_prefix[prefix + x] + row[x].min(truncation_px) as f64;
-                foreground_prefix[prefix + x + 1] = foreground_prefix[prefix + x] + on[x] as u32;
+        for y in prefix_top..prefix_top + prefix_rows {
+            let (from, to) = (y * w + prefix_left, y * w + prefix_right);
+            let (mut outside_sum, mut foreground_count) = (before, 0u32);
+            outside_prefix.push(outside_sum);
+            foreground_prefix.push(foreground_count);
+            for (&d, &on) in distance[from..to].iter().zip(&on[from..to]) {
+                outside_sum += d.min(truncation_px) as f64;
+                foreground_count += u32::from(on);
+                outside_prefix.push(outside_sum);
+                foreground_prefix.push(foreground_count);
             }
         }
         FrameTerms {
