@@ -41,24 +41,53 @@ pub fn camera_shift_px(frame: &GreyImage, background: &GreyImage) -> (i32, i32) 
     if !frame.same_size(background.width_px, background.height_px) {
         return (0, 0);
     }
-    let (w, h) = (frame.width_px as i32, frame.height_px as i32);
-    let r = MAX_CAMERA_SHIFT_PX;
+    let (w, h) = (frame.width_px as usize, frame.height_px as usize);
+    let reach = MAX_CAMERA_SHIFT_PX;
+    let r = reach as usize;
+    if w <= 2 * r || h <= 2 * r {
+        return (0, 0); // nothing to compare
+    }
     // Every fourth row and column at 640×480; sparser in larger images, so
     // that about as many pixels are compared at any size.
     let mut step = 4usize;
-    while (w as usize / step) * (h as usize / step) > SHIFT_SAMPLES {
+    while (w / step) * (h / step) > SHIFT_SAMPLES {
         step += 1;
+    }
+    // The samples, gathered once so that every shift reads them in a row:
+    // the frame's, row after sampled row; and the background's every row
+    // split by column into `step` planes (plane φ holds columns φ, φ +
+    // step, …), in one of which the sampled columns moved by any dx are
+    // consecutive.
+    let columns = (r..w - r).step_by(step).len();
+    let mut frame_samples: Vec<u8> = Vec::with_capacity(columns * (h / step + 1));
+    for y in (r..h - r).step_by(step) {
+        frame_samples.extend(frame.pixels[y * w + r..].iter().step_by(step).take(columns));
+    }
+    let plane_w = w.div_ceil(step);
+    let mut planes = vec![0u8; step * plane_w * h];
+    for (y, row) in background.pixels.chunks_exact(w).enumerate() {
+        for phase in 0..step {
+            let at = (phase * h + y) * plane_w;
+            for (to, &b) in planes[at..at + plane_w].iter_mut().zip(row[phase..].iter().step_by(step)) {
+                *to = b;
+            }
+        }
     }
     // The cost of a shift, given up (`None`) once it reaches `bound`: it
     // cannot beat the best so far (only a smaller cost wins).
     let cost_below = |dx: i32, dy: i32, bound: u64| {
+        let column = r.checked_add_signed(dx as isize)?;
+        let (plane, first) = (column % step, column / step);
         let mut sum = 0u64;
-        for y in (r..h - r).step_by(step) {
-            for x in (r..w - r).step_by(step) {
-                let f = frame.pixels[(y * w + x) as usize];
-                let b = background.pixels[((y + dy) * w + x + dx) as usize];
-                sum += u64::from(f.abs_diff(b).min(SHIFT_COST_CAP_LEVELS));
-            }
+        for (seen, y) in frame_samples.chunks_exact(columns).zip((r..h - r).step_by(step)) {
+            let at = (plane * h + y.checked_add_signed(dy as isize)?) * plane_w + first;
+            let room = &planes[at..at + columns];
+            let row: u32 = seen
+                .iter()
+                .zip(room)
+                .map(|(&f, &b)| u32::from(f.abs_diff(b).min(SHIFT_COST_CAP_LEVELS)))
+                .sum();
+            sum += u64::from(row);
             if sum >= bound {
                 return None;
             }
@@ -66,8 +95,8 @@ pub fn camera_shift_px(frame: &GreyImage, background: &GreyImage) -> (i32, i32) 
         Some(sum)
     };
     let mut best = ((0, 0), cost_below(0, 0, u64::MAX).unwrap_or(u64::MAX));
-    for dy in -r..=r {
-        for dx in -r..=r {
+    for dy in -reach..=reach {
+        for dx in -reach..=reach {
             if (dx, dy) == (0, 0) {
                 continue;
             }
