@@ -195,7 +195,11 @@ pub struct SilhouetteRenderer {
     polygon_points: Vec<DVec2>,
     clip: Vec<DVec2>,
     clip_spare: Vec<DVec2>,
-    rows: Vec<(f64, f64)>,
+    /// Per row of the polygons' box, the leftmost and the rightmost
+    /// crossing of the polygon being filled (apart, so that a row's two
+    /// updates are two vector instructions for several rows).
+    row_lows: Vec<f64>,
+    row_highs: Vec<f64>,
     /// Per row of the polygons' box, the union of the column ranges the
     /// polygons drawn so far cover there, as runs ([`add_range`]).
     row_ranges: Vec<Vec<(u32, u32)>>,
@@ -250,7 +254,8 @@ impl SilhouetteRenderer {
             polygon_points: Vec::new(),
             clip: Vec::new(),
             clip_spare: Vec::new(),
-            rows: Vec::new(),
+            row_lows: Vec::new(),
+            row_highs: Vec::new(),
             row_ranges: Vec::new(),
         }
     }
@@ -359,6 +364,7 @@ impl SilhouetteRenderer {
         let start = self.polygon_points.len();
         let longest_ideal = LONGEST_EDGE_PX / self.focal_px;
         let count = self.clip.len();
+        self.polygon_points.reserve(count);
         for i in 0..count {
             let p = self.clip[i];
             self.polygon_points.push(self.pixel(p));
@@ -410,13 +416,16 @@ impl SilhouetteRenderer {
         };
         let bounds = if bounds.is_empty() { PixelBox::default() } else { bounds };
         let bh = bounds.height() as usize;
-        self.rows.clear();
-        self.rows.resize(bh, (f64::INFINITY, f64::NEG_INFINITY));
+        self.row_lows.clear();
+        self.row_lows.resize(bh, f64::INFINITY);
+        self.row_highs.clear();
+        self.row_highs.resize(bh, f64::NEG_INFINITY);
         if self.row_ranges.len() < bh {
             self.row_ranges.resize_with(bh, Vec::new);
         }
         for &(start, end) in &self.polygons {
-            fill_convex(&self.polygon_points[start..end], bounds, &mut self.rows, &mut self.row_ranges);
+            let rows = (&mut self.row_lows[..], &mut self.row_highs[..]);
+            fill_convex(&self.polygon_points[start..end], bounds, rows, &mut self.row_ranges);
         }
         merge_spans(&mut self.row_ranges[..bh], bounds.top, out);
     }
@@ -462,14 +471,14 @@ fn add_range(ranges: &mut Vec<(u32, u32)>, start: u32, end: u32) {
 
 /// The pixels whose centres lie in the convex polygon `points` (pixels),
 /// as a column range per row added to `row_ranges` (row `bounds.top + k`
-/// at `k`, [`add_range`]); `rows` is scratch of `bounds.height()` entries, left as
-/// `(∞, −∞)`. Each edge gives the crossing of every row it spans,
+/// at `k`, [`add_range`]); `(lows, highs)` is scratch of `bounds.height()`
+/// entries each, left as `∞` and `−∞`. Each edge gives the crossing of every row it spans,
 /// `top ≤ v < bottom` (so a row through a vertex is counted once), and each
 /// row covers from its leftmost to its rightmost crossing, `left ≤ u < right`.
 fn fill_convex(
     points: &[DVec2],
     bounds: PixelBox,
-    rows: &mut [(f64, f64)],
+    (lows, highs): (&mut [f64], &mut [f64]),
     row_ranges: &mut [Vec<(u32, u32)>],
 ) {
     let (top, bottom) = (i64::from(bounds.top), i64::from(bounds.bottom));
@@ -496,33 +505,53 @@ fn fill_convex(
         // Within the bounds: 0 ≤ first − top < end − top ≤ their height.
         let (r0, r1) = ((first - top) as usize, (end - top) as usize);
         used = (used.0.min(r0), used.1.max(r1));
-        for (v, row) in (first..end).zip(&mut rows[r0..r1]) {
-            let x = a.x + (v as f64 - a.y) * slope;
+        // The row numbers as i32 (within the image), whose conversion to
+        // f64 has a vector instruction: the loop runs two rows at a time.
+        let first = first as i32;
+        for (k, (low, high)) in lows[r0..r1].iter_mut().zip(&mut highs[r0..r1]).enumerate() {
+            let x = a.x + (f64::from(first + k as i32) - a.y) * slope;
             // As `min` and `max` (a NaN crossing changes nothing; the
             // rows are never NaN), without their NaN handling: one
             // instruction each here and in wasm.
-            if x < row.0 {
-                row.0 = x;
-            }
-            if x > row.1 {
-                row.1 = x;
-            }
+            *low = if x < *low { x } else { *low };
+            *high = if x > *high { x } else { *high };
         }
     }
     if used.0 >= used.1 {
         return;
     }
-    let (left, right) = (i64::from(bounds.left), i64::from(bounds.right));
-    for (row, ranges) in rows[used.0..used.1].iter_mut().zip(&mut row_ranges[used.0..used.1]) {
-        let (x0, x1) = *row;
-        *row = (f64::INFINITY, f64::NEG_INFINITY);
-        let start = ceil(x0).max(left);
-        let end = ceil(x1).min(right);
+    let (left, right) = (f64::from(bounds.left), f64::from(bounds.right));
+    let used = used.0..used.1;
+    let rows = lows[used.clone()].iter_mut().zip(&mut highs[used.clone()]);
+    for ((low, high), ranges) in rows.zip(&mut row_ranges[used]) {
+        let (x0, x1) = (*low, *high);
+        (*low, *high) = (f64::INFINITY, f64::NEG_INFINITY);
+        // Clamped to the bounds, whole numbers, before the ceiling: the
+        // same columns as clamping after it, and within u32 (the rows are
+        // never NaN; an untouched row, (∞, −∞), clamps to an empty range).
+        let start = ceil_within_u32(clamp(x0, left, right));
+        let end = ceil_within_u32(clamp(x1, left, right));
         if start < end {
-            // Within the bounds, so within u32.
-            add_range(ranges, start as u32, end as u32);
+            add_range(ranges, start, end);
         }
     }
+}
+
+/// `x` within `low ≤ high`, as comparisons (no NaN handling: `x` is no NaN).
+fn clamp(x: f64, low: f64, high: f64) -> f64 {
+    if x < low {
+        low
+    } else if x > high {
+        high
+    } else {
+        x
+    }
+}
+
+/// [`ceil`] of an `x` in `0 ≤ x ≤ u32::MAX` (no saturation to check).
+fn ceil_within_u32(x: f64) -> u32 {
+    let toward_zero = x as u32;
+    toward_zero + u32::from((toward_zero as f64) < x)
 }
 
 /// The least whole number not below `x`: exact, so the same on every
