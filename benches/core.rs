@@ -79,7 +79,7 @@ fn main() {
     let params = HachajParams::default();
     let feet = FeetChoice::default();
     let t = median_time(|| {
-        std::hint::black_box(recording.translate_paper(&feet, &params).expect("runs"));
+        std::hint::black_box(recording.translate_hachaj(&feet, &params).expect("runs"));
     });
     println!(
         "paper method  heian_shodan.csv ({} frames, faithful): {:7.3} ms  {:9.0} frames/s",

@@ -44,7 +44,7 @@ fn main() {
         std::hint::black_box(filmed::run(setup, method, frames));
         1e3 * started.elapsed().as_secs_f64() / n as f64
     };
-    let paper_ms = per_frame_ms(TrackMethod::Paper(RiecickyParams::default()));
+    let paper_ms = per_frame_ms(TrackMethod::Riecicky(RiecickyParams::default()));
     let fused_ms = per_frame_ms(TrackMethod::Fused(FusedParams::default()));
     let size = scene.camera.image_size;
     println!("walk, {n} frames of {}×{}, native, ms per frame:", size.width_px, size.height_px);

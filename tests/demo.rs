@@ -276,7 +276,7 @@ fn the_recording_parses_round_trips_and_plays() {
     assert!(session.translated.poses.positions_cm.iter().all(|p| p.is_finite()));
     assert!(
         session
-            .set_settings(Settings { method: embusen::translate::MethodKind::Paper, ..Default::default() })
+            .set_settings(Settings { method: embusen::translate::MethodKind::Hachaj, ..Default::default() })
             .is_ok()
     );
 }

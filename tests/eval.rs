@@ -32,7 +32,7 @@ fn evaluate_all() -> Option<&'static [FileAccuracy]> {
                 let recording = common::open(&dir, &format!("groundtruth/{name}"));
                 let Source::Bvh(bvh) = &recording.source else { panic!("{name}: a BVH") };
                 let file = evaluate_file(bvh, &name).unwrap();
-                eprintln!("{name}:\n  paper   {:?}\n  contact {:?}", file.paper, file.contact);
+                eprintln!("{name}:\n  paper   {:?}\n  contact {:?}", file.hachaj, file.contact);
                 file
             })
             .collect()
@@ -46,8 +46,8 @@ fn is(name: &str, motion: &str) -> bool {
 #[test]
 fn contact_beats_paper_on_every_groundtruth_file() {
     let Some(all) = evaluate_all() else { return };
-    for FileAccuracy { name, paper, contact } in all {
-        assert!(contact.mean_error_pct < paper.mean_error_pct, "{name}: {contact:?} vs {paper:?}");
+    for FileAccuracy { name, hachaj, contact } in all {
+        assert!(contact.mean_error_pct < hachaj.mean_error_pct, "{name}: {contact:?} vs {hachaj:?}");
     }
 }
 
@@ -101,10 +101,10 @@ fn kata_closures() -> Option<[(f64, f64); 2]> {
         shodan.attach_accel(common::open_accel(&dir, "karate/heian_shodan.accel.csv")).unwrap();
         let nidan = common::open(&dir, "karate/heian_nidan.bvh");
         [shodan, nidan].map(|kata| {
-            let paper = kata_closure_cm(&kata, &Method::Paper(Default::default())).unwrap();
+            let hachaj = kata_closure_cm(&kata, &Method::Hachaj(Default::default())).unwrap();
             let contact = kata_closure_cm(&kata, &Method::default()).unwrap();
-            eprintln!("{} closure: paper {paper:.1} cm, contact {contact:.1} cm", kata.name);
-            (paper, contact)
+            eprintln!("{} closure: paper {hachaj:.1} cm, contact {contact:.1} cm", kata.name);
+            (hachaj, contact)
         })
     }))
 }

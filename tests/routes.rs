@@ -18,7 +18,7 @@ use embusen::translate::hachaj::HachajParams;
 fn table_route_matches_the_reference_after_writing() {
     let Some(dir) = common::data_dir() else { return };
     let recording = common::open(&dir, "karate/heian_shodan.csv");
-    let translated = recording.translate_paper(&FeetChoice::default(), &HachajParams::default()).unwrap();
+    let translated = recording.translate_hachaj(&FeetChoice::default(), &HachajParams::default()).unwrap();
     assert!(matches!(translated.accel_source, AccelSource::Accelerometer { .. }));
     let written = recording.write_shifted(&translated.shift_cm);
     let output = Table::parse(written.as_bytes(), "out.csv").unwrap();
@@ -41,7 +41,7 @@ fn bvh_and_side_file_route_matches_the_reference() {
     let Some(dir) = common::data_dir() else { return };
     let mut recording = common::open(&dir, "karate/heian_shodan.bvh");
     recording.attach_accel(common::open_accel(&dir, "karate/heian_shodan.accel.csv")).unwrap();
-    let translated = recording.translate_paper(&FeetChoice::default(), &HachajParams::default()).unwrap();
+    let translated = recording.translate_hachaj(&FeetChoice::default(), &HachajParams::default()).unwrap();
     assert!(matches!(translated.accel_source, AccelSource::Accelerometer { .. }));
     // Write the BVH, read it back, and compare its forward kinematics.
     let written = recording.write_shifted(&translated.shift_cm);
@@ -78,15 +78,15 @@ fn without_accelerometer_the_kinematics_drive_the_method() {
     assert!((p10 - 1.0).abs() < 0.1, "10th percentile {p10}");
     assert!(p90 > 2.0, "90th percentile {p90}");
     assert_eq!(right.len(), recording.frame_count());
-    let translated = recording.translate_paper(&FeetChoice::default(), &HachajParams::default()).unwrap();
-    assert!(translated.paper().expect("paper").pass1_pinned.iter().any(|p| p.is_some()));
+    let translated = recording.translate_hachaj(&FeetChoice::default(), &HachajParams::default()).unwrap();
+    assert!(translated.hachaj().expect("paper").pass1_pinned.iter().any(|p| p.is_some()));
 }
 
 #[test]
 fn katas_close_better_than_the_vendor_translation() {
     let Some(dir) = common::data_dir() else { return };
     let recording = common::open(&dir, "karate/heian_shodan.csv");
-    let translated = recording.translate_paper(&FeetChoice::default(), &HachajParams::default()).unwrap();
+    let translated = recording.translate_hachaj(&FeetChoice::default(), &HachajParams::default()).unwrap();
     let vendor = floor_closure_cm(&recording.poses.trajectory(0));
     let paper = floor_closure_cm(&translated.poses.trajectory(0));
     eprintln!("Heian Shodan closure: vendor {vendor:.1} cm, paper {paper:.1} cm");
@@ -99,7 +99,7 @@ fn demo_translation_is_recovered() {
     let demo = demo();
     let recording = demo.recording();
     assert_eq!(recording.frame_count(), demo.true_root_cm.len());
-    let translated = recording.translate_paper(&FeetChoice::default(), &HachajParams::default()).unwrap();
+    let translated = recording.translate_hachaj(&FeetChoice::default(), &HachajParams::default()).unwrap();
     let estimated = translated.poses.trajectory(0);
     let truth = &demo.true_root_cm;
     let path_cm = floor_path_cm(truth);

@@ -42,7 +42,7 @@ fn evaluate_all() -> Option<&'static (Vec<SuitFileAccuracy>, SuitSummary)> {
                 .unwrap();
                 eprintln!(
                     "{name}: paper {:.2} %, contact {:.2} % (path ratio {:.3})",
-                    file.file.paper.mean_error_pct,
+                    file.file.hachaj.mean_error_pct,
                     file.file.contact.mean_error_pct,
                     file.file.contact.path_ratio
                 );
@@ -273,11 +273,11 @@ fn suit_grade_level_half_meets_the_acceptance_figures() {
 fn suit_grade_contact_beats_paper_on_every_file_within_a_sane_path_ratio() {
     let Some((files, _)) = evaluate_all() else { return };
     for file in files {
-        let (paper, contact) = (&file.file.paper, &file.file.contact);
+        let (hachaj, contact) = (&file.file.hachaj, &file.file.contact);
         if contact.true_path_cm >= embusen::eval::summary::MOVING_MIN_PATH_CM {
             assert!(
-                contact.mean_error_pct < paper.mean_error_pct,
-                "{}: {contact:?} vs {paper:?}",
+                contact.mean_error_pct < hachaj.mean_error_pct,
+                "{}: {contact:?} vs {hachaj:?}",
                 file.file.name
             );
         }

@@ -29,8 +29,14 @@ fn both_trackers_follow_a_filmed_body_at_another_rate_than_its_bvh() {
     let size = ImageSize { width_px: 400, height_px: 300 };
     let (recording, camera, background, frames, truth) = film(25.0, 4.0, size, 0.0);
     // The paper's tracker starts at the world's origin: put the truth there.
-    let paper =
-        track(&recording, camera, &background, &frames, 25.0, TrackMethod::Paper(RiecickyParams::default()));
+    let paper = track(
+        &recording,
+        camera,
+        &background,
+        &frames,
+        25.0,
+        TrackMethod::Riecicky(RiecickyParams::default()),
+    );
     let fused =
         track(&recording, camera, &background, &frames, 25.0, TrackMethod::Fused(FusedParams::default()));
     assert_eq!(fused.frames.len(), frames.len());
@@ -43,7 +49,7 @@ fn both_trackers_follow_a_filmed_body_at_another_rate_than_its_bvh() {
     assert!(fused.frames.iter().all(|f| f.height_cm.is_finite()));
     assert!(fused.frames.iter().filter(|f| f.confidence > 0.0).count() * 10 >= frames.len() * 9);
     // The paper's search: 25 candidates a frame, each with its energy.
-    let TrackDetails::Paper { candidates, .. } = &paper.details else { panic!("not the paper's track") };
+    let TrackDetails::Riecicky { candidates, .. } = &paper.details else { panic!("not the paper's track") };
     assert_eq!(candidates.len(), paper.frames.len());
     assert!(candidates.iter().all(|c| c.len() == 25));
 }
@@ -733,7 +739,7 @@ fn shared_scene_figures() -> Option<&'static Vec<SceneFigures>> {
                     name,
                     suit_mean_cm: track_errors(&suit_floor, &truth).mean_cm,
                     paper_mean_cm: (k < 4)
-                        .then(|| errors(TrackMethod::Paper(RiecickyParams::default())).mean_cm),
+                        .then(|| errors(TrackMethod::Riecicky(RiecickyParams::default())).mean_cm),
                     fused: errors_of(&fused),
                     two_views,
                 };

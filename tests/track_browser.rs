@@ -49,7 +49,7 @@ fn both_trackers_follow_a_640_by_480_take_and_say_how_fast() {
     let size = ImageSize { width_px: 640, height_px: 480 };
     let (recording, camera, background, frames, truth) = film(30.0, 3.0, size, 0.0);
     let methods = [
-        ("paper", TrackMethod::Paper(RiecickyParams::default()), truth[0]),
+        ("paper", TrackMethod::Riecicky(RiecickyParams::default()), truth[0]),
         ("fused", TrackMethod::Fused(FusedParams::default()), glam::DVec2::ZERO),
     ];
     for (name, method, start) in methods {

@@ -84,7 +84,7 @@ fn bad_input_keeps_the_open_recording() {
     assert_eq!(player.info().unwrap().to_rust().unwrap().name, embusen::synth::demo::DEMO_NAME);
     let before = player.settings().unwrap().to_rust().unwrap();
     let bad = settings(&player, |s| {
-        s.method = MethodKind::Paper;
+        s.method = MethodKind::Hachaj;
         s.left_foot = Some("NoSuchJoint".to_string());
     });
     assert!(player.set_settings(bad).is_err());
@@ -97,7 +97,7 @@ fn unknown_values_and_fields_are_errors_that_name_them() {
     let mut player = player();
     let good = r#"{"method":"paper","smoothing":"clean","window_s":1,"dy_eps_cm":5,"sole_depth_cm":null,"left_foot":null,"right_foot":null}"#;
     player.set_settings(Ts::new_unchecked(js(good))).unwrap();
-    assert_eq!(player.settings().unwrap().to_rust().unwrap().method, MethodKind::Paper);
+    assert_eq!(player.settings().unwrap().to_rust().unwrap().method, MethodKind::Hachaj);
     let cases = [
         (good.replace("\"paper\"", "\"papier\""), "papier"),
         (good.replace("\"clean\"", "\"smooth\""), "smooth"),
@@ -128,7 +128,7 @@ fn the_options_defaults_are_the_players() {
     assert_eq!(defaults.settings.sole_depth_cm, None, "estimated");
     assert_eq!(options.sole_depths_cm, embusen::translate::contact::SOLE_DEPTHS_CM);
     assert!(options.speeds.contains(&defaults.speed));
-    assert!(options.methods.iter().any(|m| m.value == MethodKind::Paper));
+    assert!(options.methods.iter().any(|m| m.value == MethodKind::Hachaj));
     assert_eq!(defaults.ghost, Ghost::Overlay);
     // Every offered choice is accepted.
     let mut player = player;
@@ -152,7 +152,7 @@ fn settings_recompute_and_exports_match_the_core() {
     assert!(sole.estimated);
     let hips = |player: &Player| player.export_hips_csv().unwrap().to_rust().unwrap();
     let contact = hips(&player);
-    player.set_settings(settings(&player, |s| s.method = MethodKind::Paper)).unwrap();
+    player.set_settings(settings(&player, |s| s.method = MethodKind::Hachaj)).unwrap();
     assert_eq!(player.info().unwrap().to_rust().unwrap().sole_depth, None, "the paper method has no sole");
     let faithful = hips(&player);
     assert_ne!(contact.text, faithful.text);
@@ -168,10 +168,10 @@ fn settings_recompute_and_exports_match_the_core() {
     assert_ne!(faithful.text, clean.text);
     // The exported BVH is what the core writes for the same settings.
     let recording = embusen::synth::demo::demo().recording();
-    let mut settings = embusen::app::session::Settings { method: MethodKind::Paper, ..Default::default() };
-    settings.paper.smoothing = Smoothing::Clean;
-    settings.paper.window_s = 0.5;
-    settings.paper.dy_eps_cm = 3.0;
+    let mut settings = embusen::app::session::Settings { method: MethodKind::Hachaj, ..Default::default() };
+    settings.hachaj.smoothing = Smoothing::Clean;
+    settings.hachaj.window_s = 0.5;
+    settings.hachaj.dy_eps_cm = 3.0;
     let session = embusen::app::session::Session::open(recording, settings).unwrap();
     assert_eq!(player.export_recording().unwrap().to_rust().unwrap().text, session.export_recording().1);
 }

@@ -149,7 +149,7 @@ class Tracking {
     const per = (/** @type {number} */ ms) => ms / Math.max(1, frames);
     post({
       type: "done", files, frames, msPerFrame: per(this.busyMs), decodeMsPerFrame: per(this.decodeMs),
-      scoreMsPerFrame: per(this.scorer?.ms ?? 0), outlines, candidates: job.paper_candidates(),
+      scoreMsPerFrame: per(this.scorer?.ms ?? 0), outlines, candidates: job.riecicky_candidates(),
       trackedHipsCm: job.tracked_hips_cm(), series: job.take_series(), errors, truthProblem, offset, offsetProblem,
       view: job.finished_view(),
     }, outlines.map((o) => o.buffer));

@@ -15,7 +15,7 @@ use crate::translate::{Decisions, Method, MethodKind, Translated};
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Settings {
     pub method: MethodKind,
-    pub paper: HachajParams,
+    pub hachaj: HachajParams,
     pub contact: ContactParams,
     pub feet: FeetChoice,
 }
@@ -24,7 +24,7 @@ impl Settings {
     /// The method in use, with its parameters.
     pub fn method_with_params(&self) -> Method {
         match self.method {
-            MethodKind::Paper => Method::Paper(self.paper),
+            MethodKind::Hachaj => Method::Hachaj(self.hachaj),
             MethodKind::Contact => Method::Contact(self.contact.clone()),
         }
     }
@@ -146,9 +146,9 @@ pub fn plot_data(recording: &Recording, t: &Translated, settings: &Settings) -> 
         poses.trajectory(t.feet[foot]).iter().map(|p| p.y).collect()
     };
     let (foot_signal, foot_signal_label, stance) = match &t.decisions {
-        Decisions::Paper(paper) => (
+        Decisions::Hachaj(paper) => (
             paper.accel_smoothed_g.clone(),
-            match settings.paper.smoothing {
+            match settings.hachaj.smoothing {
                 Smoothing::Faithful => "smoothed acceleration (g), R smoother".to_string(),
                 Smoothing::Clean => "smoothed acceleration (g)".to_string(),
             },
@@ -224,7 +224,7 @@ mod tests {
             assert!(!session.plot_data.camera.is_shown());
         }
         session.set_camera_take(take.clone()).unwrap();
-        let paper = Settings { method: MethodKind::Paper, ..Settings::default() };
+        let paper = Settings { method: MethodKind::Hachaj, ..Settings::default() };
         session.set_settings(paper).unwrap();
         assert_eq!(session.plot_data.camera, take);
         assert_eq!(session.plot_data.frame_count(), frames);

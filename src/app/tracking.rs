@@ -67,9 +67,9 @@ pub struct FrameProgress {
     pub confidence: f64,
 }
 
-/// The paper's search in one video frame.
+/// Riečický et al.'s search in one video frame.
 #[derive(Clone, Debug, PartialEq)]
-pub struct PaperCandidates {
+pub struct RiecickyCandidates {
     /// The positions tried (x, z, cm) with their energies (px).
     pub tried: Vec<(DVec2, f64)>,
     /// The index of the one chosen.
@@ -315,7 +315,7 @@ impl TrackingJob {
     pub fn path_scorer_apart(&self) -> Option<PathScorer> {
         match self.take.method {
             TrackMethod::Fused(params) => Some(PathScorer::new(self.take.setup.clone(), params)),
-            TrackMethod::Paper(_) => None,
+            TrackMethod::Riecicky(_) => None,
         }
     }
 
@@ -385,15 +385,15 @@ impl TrackingJob {
         }
     }
 
-    /// The paper's candidates of each video frame of the finished track:
+    /// Riečický et al.'s candidates of each video frame of the finished track:
     /// the 25 positions it tried (x, z, cm) with their energies (px), and
     /// the index of the one it chose; none for the fused tracker, before
     /// `finish`, or in a frame without a pose.
-    pub fn paper_candidates(&self) -> Vec<PaperCandidates> {
+    pub fn riecicky_candidates(&self) -> Vec<RiecickyCandidates> {
         let Some(track) = &self.track else { return Vec::new() };
         let none = Vec::new();
         let candidates = match &track.details {
-            TrackDetails::Paper { candidates, .. } => candidates,
+            TrackDetails::Riecicky { candidates, .. } => candidates,
             TrackDetails::Fused { .. } => &none,
         };
         track
@@ -402,7 +402,7 @@ impl TrackingJob {
             .enumerate()
             .map(|(i, f)| {
                 let tried = candidates.get(i).cloned().unwrap_or_default();
-                PaperCandidates {
+                RiecickyCandidates {
                     chosen: f.measured_cm.and_then(|m| tried.iter().position(|(p, _)| *p == m)),
                     tried,
                 }

@@ -70,9 +70,9 @@ mod tests {
     #[test]
     fn contact_beats_paper_on_the_demo() {
         let demo = demo();
-        let (_, paper) = evaluate_demo(&demo, &Method::Paper(Default::default())).unwrap();
+        let (_, hachaj) = evaluate_demo(&demo, &Method::Hachaj(Default::default())).unwrap();
         let (_, contact) = evaluate_demo(&demo, &Method::default()).unwrap();
-        assert!(contact.mean_cm < paper.mean_cm, "contact {contact:?}, paper {paper:?}");
+        assert!(contact.mean_cm < hachaj.mean_cm, "contact {contact:?}, paper {hachaj:?}");
     }
 
     /// The trail a newcomer sees first is as long as the truth's (issue 23:

@@ -117,11 +117,11 @@ pub fn suit_level(file_name: &str) -> String {
 /// Evaluates a suit-grade BVH against its true motion (see [`evaluate_suit`])
 /// with the paper method and the contact method, each with its defaults.
 pub fn evaluate_suit_file(suit: &Bvh, truth: &Bvh, name: &str) -> Result<SuitFileAccuracy, Error> {
-    let SuitAccuracy { accuracy: paper, .. } =
-        evaluate_suit(suit, truth, name, &Method::Paper(HachajParams::default()))?;
+    let SuitAccuracy { accuracy: hachaj, .. } =
+        evaluate_suit(suit, truth, name, &Method::Hachaj(HachajParams::default()))?;
     let contact = evaluate_suit(suit, truth, name, &Method::default())?;
     Ok(SuitFileAccuracy {
-        file: FileAccuracy { name: name.to_string(), paper, contact: contact.accuracy },
+        file: FileAccuracy { name: name.to_string(), hachaj, contact: contact.accuracy },
         level: suit_level(name),
         leg_oracle_mean_error_pct: contact.leg_oracle_mean_error_pct,
         leg_length_ratio: contact.leg_length_ratio,
@@ -251,7 +251,7 @@ pub fn format_suit_summary(summary: &SuitSummary) -> String {
             contacts_oracle_path_ratio: g.contacts_oracle_path_ratio,
             grounded_oracle_path_ratio: g.grounded_oracle_path_ratio,
         };
-        format_line(FILE_WIDTH, label, &methods.file_count.to_string(), &methods.paper, &methods.contact)
+        format_line(FILE_WIDTH, label, &methods.file_count.to_string(), &methods.hachaj, &methods.contact)
             + &oracles.columns()
     };
     let mut text = MEDIANS_HEADING.to_string();
@@ -308,7 +308,7 @@ mod tests {
         SuitFileAccuracy {
             file: FileAccuracy {
                 name: name.to_string(),
-                paper: accuracy(true_path_cm, paper_pct),
+                hachaj: accuracy(true_path_cm, paper_pct),
                 contact: accuracy(true_path_cm, contact_pct),
             },
             level: suit_level(name),
@@ -349,7 +349,7 @@ mod tests {
         assert_eq!(walk.grounded_oracle_mean_error_pct, median(&[6.0, 9.0]));
         // The bow stays in place: no percentage, but its leg ratio counts.
         let (_, bow) = &one.by_motion_type[0];
-        assert!(bow.leg_oracle_mean_error_pct.is_nan() && bow.methods.paper.mean_error_pct.is_nan());
+        assert!(bow.leg_oracle_mean_error_pct.is_nan() && bow.methods.hachaj.mean_error_pct.is_nan());
         assert_eq!(bow.leg_length_ratio, 1.4);
         assert_eq!(one.all.methods.file_count, 4);
         assert_eq!(one.all.leg_oracle_mean_error_pct, median(&[2.0, 3.0, 1.5]));
@@ -361,7 +361,7 @@ mod tests {
         assert_eq!((s.levels[1].contact_better_count, s.levels[1].moving_file_count), (1, 1));
         assert_eq!((s.levels[2].contact_better_count, s.levels[2].moving_file_count), (0, 1));
         assert_eq!(s.all.methods.file_count, 6);
-        assert_eq!(s.all.methods.paper.mean_error_pct, median(&[10.0, 20.0, 30.0, 5.0, 3.0]));
+        assert_eq!(s.all.methods.hachaj.mean_error_pct, median(&[10.0, 20.0, 30.0, 5.0, 3.0]));
     }
 
     #[test]

@@ -20,7 +20,7 @@ pub const MOVING_MIN_PATH_CM: f64 = 50.0;
 pub struct FileAccuracy {
     /// The file name, as the table shows it.
     pub name: String,
-    pub paper: Accuracy,
+    pub hachaj: Accuracy,
     pub contact: Accuracy,
 }
 
@@ -30,7 +30,7 @@ pub struct FileAccuracy {
 pub struct GroupMedians {
     /// Every file of the group, moving or not.
     pub file_count: usize,
-    pub paper: Accuracy,
+    pub hachaj: Accuracy,
     pub contact: Accuracy,
 }
 
@@ -51,9 +51,9 @@ pub struct Summary {
 /// Evaluates a ground-truth BVH (see [`evaluate_groundtruth`]) with the paper
 /// method and the contact method, each with its default parameters.
 pub fn evaluate_file(bvh: &Bvh, name: &str) -> Result<FileAccuracy, Error> {
-    let paper = evaluate_groundtruth(bvh, name, &Method::Paper(HachajParams::default()))?;
+    let hachaj = evaluate_groundtruth(bvh, name, &Method::Hachaj(HachajParams::default()))?;
     let contact = evaluate_groundtruth(bvh, name, &Method::default())?;
-    Ok(FileAccuracy { name: name.to_string(), paper, contact })
+    Ok(FileAccuracy { name: name.to_string(), hachaj, contact })
 }
 
 pub(super) fn is_moving(a: &Accuracy) -> bool {
@@ -82,9 +82,9 @@ pub fn medians(accuracies: &[&Accuracy]) -> Accuracy {
 }
 
 pub(super) fn group_medians(files: &[&FileAccuracy]) -> GroupMedians {
-    let paper: Vec<&Accuracy> = files.iter().map(|f| &f.paper).collect();
+    let hachaj: Vec<&Accuracy> = files.iter().map(|f| &f.hachaj).collect();
     let contact: Vec<&Accuracy> = files.iter().map(|f| &f.contact).collect();
-    GroupMedians { file_count: files.len(), paper: medians(&paper), contact: medians(&contact) }
+    GroupMedians { file_count: files.len(), hachaj: medians(&hachaj), contact: medians(&contact) }
 }
 
 /// The medians of `files` per motion type and over all, and how often the
@@ -125,7 +125,7 @@ pub(super) fn by_motion_type<T>(
 /// mean error is below the paper method's.
 pub(super) fn contact_better<'a>(files: impl Iterator<Item = &'a FileAccuracy>) -> (usize, usize) {
     let moving: Vec<&FileAccuracy> = files.filter(|f| is_moving(&f.contact)).collect();
-    let better = moving.iter().filter(|f| f.contact.mean_error_pct < f.paper.mean_error_pct).count();
+    let better = moving.iter().filter(|f| f.contact.mean_error_pct < f.hachaj.mean_error_pct).count();
     (moving.len(), better)
 }
 
@@ -162,23 +162,23 @@ pub(super) fn format_line(
     label_width: usize,
     label: &str,
     second: &str,
-    paper: &Accuracy,
+    hachaj: &Accuracy,
     contact: &Accuracy,
 ) -> String {
     format!(
         "{:<label_width$} {:>8} | {:>8.2} {:>8.2} | {:>8.2} {:>8.2} | {:>6.3} {:>6.3} | {:>6.2} {:>6.2} {:>6.2} | {:>6.1} {:>6.1}",
         label,
         second,
-        paper.mean_error_pct,
+        hachaj.mean_error_pct,
         contact.mean_error_pct,
-        paper.final_error_pct,
+        hachaj.final_error_pct,
         contact.final_error_pct,
-        paper.path_ratio,
+        hachaj.path_ratio,
         contact.path_ratio,
-        paper.skating_cm_per_s,
+        hachaj.skating_cm_per_s,
         contact.skating_cm_per_s,
         contact.truth_skating_cm_per_s,
-        paper.vertical_error_cm,
+        hachaj.vertical_error_cm,
         contact.vertical_error_cm
     )
 }
@@ -191,14 +191,14 @@ pub fn format_file(file: &FileAccuracy) -> String {
 /// A file's line with its name padded to `label_width`, without a line end.
 pub(super) fn format_file_line(label_width: usize, file: &FileAccuracy) -> String {
     let path_m = format!("{:.2}", file.contact.true_path_cm / 100.0);
-    format_line(label_width, &file.name, &path_m, &file.paper, &file.contact)
+    format_line(label_width, &file.name, &path_m, &file.hachaj, &file.contact)
 }
 
 /// The summary's lines, each ending in a line end: a heading, one line per
 /// motion type, one for all files, and the count of files where contact wins.
 pub fn format_summary(summary: &Summary) -> String {
     let group = |label: &str, g: &GroupMedians| {
-        format_line(FILE_WIDTH, label, &g.file_count.to_string(), &g.paper, &g.contact)
+        format_line(FILE_WIDTH, label, &g.file_count.to_string(), &g.hachaj, &g.contact)
     };
     let counts = (summary.moving_file_count, summary.contact_better_count);
     MEDIANS_HEADING.to_string() + &format_groups(&summary.by_motion_type, &summary.all, counts, "", group)
@@ -249,7 +249,7 @@ mod tests {
     fn file(name: &str, true_path_cm: f64, paper_pct: f64, contact_pct: f64) -> FileAccuracy {
         FileAccuracy {
             name: name.to_string(),
-            paper: accuracy(true_path_cm, paper_pct, 10.0 * paper_pct),
+            hachaj: accuracy(true_path_cm, paper_pct, 10.0 * paper_pct),
             contact: accuracy(true_path_cm, contact_pct, 10.0 * contact_pct),
         }
     }
@@ -267,21 +267,21 @@ mod tests {
         let (_, walk) = &s.by_motion_type[1];
         assert_eq!(walk.file_count, 2);
         assert_eq!(walk.contact.mean_error_pct, median(&[1.0, 3.0]));
-        assert_eq!(walk.paper.final_error_pct, median(&[8.0, 12.0]));
+        assert_eq!(walk.hachaj.final_error_pct, median(&[8.0, 12.0]));
         // The bow alone has no moving file to take a percentage of; its path
         // ratio, how far it wanders, it has.
         let (_, bow) = &s.by_motion_type[0];
-        assert!(bow.contact.mean_error_pct.is_nan() && bow.paper.final_error_pct.is_nan());
+        assert!(bow.contact.mean_error_pct.is_nan() && bow.hachaj.final_error_pct.is_nan());
         assert_eq!(bow.contact.path_ratio, 1.9);
         assert_eq!(bow.contact.skating_cm_per_s, 900.0);
         assert_eq!(s.all.contact.path_ratio, median(&[1.01, 1.03, 1.9]));
         // Over all: the bow counts, and counts in the path ratio, skating and
         // vertical error only.
         assert_eq!(s.all.file_count, 3);
-        assert_eq!(s.all.paper.true_path_cm, 300.0);
+        assert_eq!(s.all.hachaj.true_path_cm, 300.0);
         assert_eq!(s.all.contact.mean_error_pct, median(&[1.0, 3.0]));
         assert_eq!(s.all.contact.skating_cm_per_s, median(&[10.0, 30.0, 900.0]));
-        assert_eq!(s.all.paper.vertical_error_cm, median(&[20.0, 30.0, 250.0]));
+        assert_eq!(s.all.hachaj.vertical_error_cm, median(&[20.0, 30.0, 250.0]));
         assert_eq!((s.contact_better_count, s.moving_file_count), (2, 2));
     }
 

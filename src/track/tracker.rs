@@ -25,29 +25,39 @@ use crate::track::working_scale::{WorkingScales, shrunk_frame};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum TrackMethod {
     /// Riečický et al.'s, as published: 25 positions around the last, 10 cm apart.
-    Paper(RiecickyParams),
+    Riecicky(RiecickyParams),
     /// embusen's: the suit's motion predicts, the camera corrects, a
     /// forward–backward smoother weighs both.
     Fused(FusedParams),
 }
 
+impl Default for TrackMethod {
+    fn default() -> Self {
+        TrackMethod::Fused(FusedParams::DEFAULT)
+    }
+}
+
 impl TrackMethod {
     /// Both, with their defaults, in the order the CLI lists them.
     pub const ALL: [TrackMethod; 2] =
-        [TrackMethod::Fused(FusedParams::DEFAULT), TrackMethod::Paper(RiecickyParams::PUBLISHED)];
+        [TrackMethod::Fused(FusedParams::DEFAULT), TrackMethod::Riecicky(RiecickyParams::PUBLISHED)];
 
-    /// Its name for the user: `paper` or `fused`.
+    /// The names of [`TrackMethod::ALL`], in its order.
+    pub const NAMES: [&'static str; 2] = ["fused", "paper"];
+
+    /// Its name for the user: `paper` or `fused` (Riečický et al.'s is the
+    /// paper's tracker, as Hachaj & Ogiela's is the paper's translation).
     pub fn name(&self) -> &'static str {
         match self {
-            TrackMethod::Paper(_) => "paper",
-            TrackMethod::Fused(_) => "fused",
+            TrackMethod::Fused(_) => TrackMethod::NAMES[0],
+            TrackMethod::Riecicky(_) => TrackMethod::NAMES[1],
         }
     }
 
     /// What it is, in a line (the CLI's `--help` says it).
     pub fn summary(&self) -> &'static str {
         match self {
-            TrackMethod::Paper(_) => {
+            TrackMethod::Riecicky(_) => {
                 "Riečický et al.'s, as published: 25 positions around the last, 10 cm apart"
             }
             TrackMethod::Fused(_) => {
@@ -95,7 +105,7 @@ pub struct TrackedFrame {
 /// What one tracker says of a whole track beyond its frames.
 #[derive(Clone, Debug, PartialEq)]
 pub enum TrackDetails {
-    Paper {
+    Riecicky {
         params: RiecickyParams,
         /// Per video frame, the 25 positions tried (x, z, cm) with their
         /// energies (px); none in a frame without a pose.
@@ -121,7 +131,7 @@ impl Track {
     /// The tracker that made it.
     pub fn method(&self) -> TrackMethod {
         match &self.details {
-            TrackDetails::Paper { params, .. } => TrackMethod::Paper(*params),
+            TrackDetails::Riecicky { params, .. } => TrackMethod::Riecicky(*params),
             TrackDetails::Fused { params, .. } => TrackMethod::Fused(*params),
         }
     }
@@ -129,7 +139,7 @@ impl Track {
 
 /// The one tracker's own state between frames.
 enum TrackerState {
-    Paper(RiecickyTracker),
+    Riecicky(RiecickyTracker),
     Fused(Box<FusedTracker>),
 }
 
@@ -158,7 +168,7 @@ impl Tracker {
             "the background",
         )?;
         let state = match method {
-            TrackMethod::Paper(params) => TrackerState::Paper(RiecickyTracker::new(params)?),
+            TrackMethod::Riecicky(params) => TrackerState::Riecicky(RiecickyTracker::new(params)?),
             TrackMethod::Fused(params) => TrackerState::Fused(Box::new(FusedTracker::new(params))),
         };
         Ok(Tracker { scales: WorkingScales::new(setup), state, frames: Vec::new(), last_features: None })
@@ -184,7 +194,7 @@ impl Tracker {
         self.last_features = None;
         match &mut self.state {
             TrackerState::Fused(fused) => fused.path().take_request(),
-            TrackerState::Paper(_) => None,
+            TrackerState::Riecicky(_) => None,
         }
     }
 
@@ -205,7 +215,7 @@ impl Tracker {
     pub fn set_path_energies(&mut self, frame: usize, energies_px: Vec<f64>) -> Result<(), Error> {
         match &mut self.state {
             TrackerState::Fused(fused) => fused.path().set_energies(frame, energies_px),
-            TrackerState::Paper(_) => Err(Error::whole(
+            TrackerState::Riecicky(_) => Err(Error::whole(
                 &format!("video frame {frame}"),
                 format!("{} path energies that no request of this frame asked for", energies_px.len()),
             )),
@@ -216,7 +226,7 @@ impl Tracker {
     pub fn path_energies_pending(&self) -> usize {
         match &self.state {
             TrackerState::Fused(fused) => fused.path_energies_pending(),
-            TrackerState::Paper(_) => 0,
+            TrackerState::Riecicky(_) => 0,
         }
     }
 
@@ -238,7 +248,7 @@ impl Tracker {
         let Some(body_cm) = setup.suit.body_at(instant) else {
             let floor_cm = frames.last().map_or(DVec2::ZERO, |f| f.floor_cm);
             match state {
-                TrackerState::Paper(paper) => paper.skip_frame(floor_cm),
+                TrackerState::Riecicky(paper) => paper.skip_frame(floor_cm),
                 TrackerState::Fused(fused) => fused.skip_frame(),
             }
             let estimate = FrameEstimate { floor_cm, confidence: 0.0, measured_cm: None };
@@ -248,7 +258,7 @@ impl Tracker {
         let height_cm = body_cm[setup.suit.hips].y;
         let body = setup.shape.pose(&body_cm, DVec3::ZERO)?;
         let (estimate, foreground) = match state {
-            TrackerState::Paper(paper) => {
+            TrackerState::Riecicky(paper) => {
                 let features = setup.published_features(frame, &label)?;
                 (paper.frame(scales.at(Shrink::NONE).1, &body, &features), features)
             }
@@ -281,13 +291,13 @@ impl Tracker {
     pub fn finish(self) -> Track {
         let mut frames = self.frames;
         let (smoothed, mut warnings, details) = match self.state {
-            TrackerState::Paper(paper) => {
+            TrackerState::Riecicky(paper) => {
                 let params = paper.params();
                 let (smoothed, candidates) = paper.finish();
                 // The paper states no uncertainty.
                 let smoothed =
                     smoothed.into_iter().map(|floor_cm| SmoothedFrame::round(floor_cm, f64::NAN)).collect();
-                (smoothed, Vec::new(), TrackDetails::Paper { params, candidates })
+                (smoothed, Vec::new(), TrackDetails::Riecicky { params, candidates })
             }
             TrackerState::Fused(fused) => {
                 let params = fused.params();
@@ -425,6 +435,7 @@ mod tests {
 
     #[test]
     fn a_method_is_found_by_its_name() {
+        assert_eq!(TrackMethod::ALL.map(|m| m.name()), TrackMethod::NAMES);
         for method in TrackMethod::ALL {
             assert_eq!(TrackMethod::named(method.name()), Some(method));
         }

@@ -20,8 +20,9 @@ use hachaj::{HachajParams, HachajResult, hachaj_translation};
 /// A translation method and its parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Method {
-    /// Hachaj & Ogiela's method, as their R code computes it.
-    Paper(HachajParams),
+    /// Hachaj & Ogiela's method, as their R code computes it (`paper` to
+    /// the user).
+    Hachaj(HachajParams),
     /// embusen's contact method (see [`crate::translate::contact`]).
     Contact(ContactParams),
 }
@@ -36,7 +37,7 @@ impl Method {
     /// Which method this is, without its parameters.
     pub fn kind(&self) -> MethodKind {
         match self {
-            Method::Paper(_) => MethodKind::Paper,
+            Method::Hachaj(_) => MethodKind::Hachaj,
             Method::Contact(_) => MethodKind::Contact,
         }
     }
@@ -57,15 +58,16 @@ pub enum MethodKind {
     /// embusen's contact method, the default.
     #[default]
     Contact,
-    /// Hachaj & Ogiela's ([`hachaj`]).
-    Paper,
+    /// Hachaj & Ogiela's ([`hachaj`]), `paper` to the user.
+    #[serde(rename = "paper")]
+    Hachaj,
 }
 
 impl MethodKind {
     /// `paper` or `contact`, as the command line and the page name it.
     pub fn name(self) -> &'static str {
         match self {
-            MethodKind::Paper => "paper",
+            MethodKind::Hachaj => "paper",
             MethodKind::Contact => "contact",
         }
     }
@@ -74,14 +76,14 @@ impl MethodKind {
 /// What a method decided, frame by frame, for plots and summaries.
 #[derive(Clone, Debug)]
 pub enum Decisions {
-    Paper(HachajResult),
+    Hachaj(HachajResult),
     Contact(ContactResult),
 }
 
 impl Decisions {
     pub fn warnings(&self) -> &[String] {
         match self {
-            Decisions::Paper(p) => &p.warnings,
+            Decisions::Hachaj(p) => &p.warnings,
             Decisions::Contact(c) => &c.warnings,
         }
     }
@@ -104,10 +106,10 @@ pub struct Translated {
 }
 
 impl Translated {
-    /// The paper method's decisions, when it was the method.
-    pub fn paper(&self) -> Option<&HachajResult> {
+    /// Hachaj & Ogiela's decisions, when theirs was the method.
+    pub fn hachaj(&self) -> Option<&HachajResult> {
         match &self.decisions {
-            Decisions::Paper(p) => Some(p),
+            Decisions::Hachaj(p) => Some(p),
             Decisions::Contact(_) => None,
         }
     }
@@ -116,7 +118,7 @@ impl Translated {
     pub fn contact(&self) -> Option<&ContactResult> {
         match &self.decisions {
             Decisions::Contact(c) => Some(c),
-            Decisions::Paper(_) => None,
+            Decisions::Hachaj(_) => None,
         }
     }
 }
@@ -124,8 +126,8 @@ impl Translated {
 // The methods extend `Recording` here, where they live, so that `io` knows
 // nothing of them.
 impl Recording {
-    /// Runs the paper's method.
-    pub fn translate_paper(&self, feet: &FeetChoice, params: &HachajParams) -> Result<Translated, Error> {
+    /// Runs Hachaj & Ogiela's method.
+    pub fn translate_hachaj(&self, feet: &FeetChoice, params: &HachajParams) -> Result<Translated, Error> {
         let feet = self.feet(feet)?;
         let (accel, accel_source) = self.foot_accel_g(feet);
         let paper =
@@ -137,7 +139,7 @@ impl Recording {
             feet,
             hips: self.hips(feet),
             accel_source,
-            decisions: Decisions::Paper(paper),
+            decisions: Decisions::Hachaj(paper),
         })
     }
 
@@ -168,7 +170,7 @@ impl Recording {
     /// Runs `method`.
     pub fn translate(&self, feet: &FeetChoice, method: &Method) -> Result<Translated, Error> {
         match method {
-            Method::Paper(params) => self.translate_paper(feet, params),
+            Method::Hachaj(params) => self.translate_hachaj(feet, params),
             Method::Contact(params) => self.translate_contact(feet, params),
         }
     }

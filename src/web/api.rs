@@ -99,9 +99,9 @@ impl PlayerSettings {
     pub fn from_session(s: &session::Settings) -> PlayerSettings {
         PlayerSettings {
             method: s.method,
-            smoothing: s.paper.smoothing,
-            window_s: s.paper.window_s,
-            dy_eps_cm: s.paper.dy_eps_cm,
+            smoothing: s.hachaj.smoothing,
+            window_s: s.hachaj.window_s,
+            dy_eps_cm: s.hachaj.dy_eps_cm,
             sole_depth_cm: s.contact.sole_depth_cm,
             left_foot: s.feet.left.clone(),
             right_foot: s.feet.right.clone(),
@@ -115,9 +115,9 @@ impl PlayerSettings {
         DY_EPS_CM.check("dyEps", self.dy_eps_cm)?;
         let mut s = base.clone();
         s.method = self.method;
-        s.paper.smoothing = self.smoothing;
-        s.paper.window_s = self.window_s;
-        s.paper.dy_eps_cm = self.dy_eps_cm;
+        s.hachaj.smoothing = self.smoothing;
+        s.hachaj.window_s = self.window_s;
+        s.hachaj.dy_eps_cm = self.dy_eps_cm;
         s.contact.sole_depth_cm = self.sole_depth_cm;
         s.contact.check()?;
         s.feet = FeetChoice { left: self.left_foot.clone(), right: self.right_foot.clone() };
@@ -188,7 +188,7 @@ impl Options {
         Options {
             methods: vec![
                 choice(MethodKind::Contact, "contact"),
-                choice(MethodKind::Paper, "paper (Hachaj & Ogiela)"),
+                choice(MethodKind::Hachaj, "paper (Hachaj & Ogiela)"),
             ],
             smoothings: vec![choice(Smoothing::Faithful, "faithful (R)"), choice(Smoothing::Clean, "clean")],
             sole_depths_cm: SOLE_DEPTHS_CM.to_vec(),

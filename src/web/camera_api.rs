@@ -15,12 +15,10 @@ use wasm_bindgen::JsValue;
 
 use super::js_object::{read, refuse_unknown_fields};
 use crate::app::frame_layers::Layer;
-use crate::app::tracking::{FinishedView, NamedBytes, PaperCandidates, VideoDescription};
+use crate::app::tracking::{FinishedView, NamedBytes, RiecickyCandidates, VideoDescription};
 use crate::image::Shrink;
-use crate::track::fused::FusedParams;
 use crate::track::offset::OffsetEstimate;
 use crate::track::path::PathRequest;
-use crate::track::riecicky::RiecickyParams;
 use crate::track::suit_motion::VideoTiming;
 use crate::track::tracker::TrackMethod;
 use crate::track::views::{Sighting, ViewSightings};
@@ -73,24 +71,19 @@ fn bytes_out<S: Serializer>(bytes: &[u8], serializer: S) -> Result<S::Ok, S::Err
     serializer.serialize_bytes(bytes)
 }
 
-/// The choice of a camera tracker, as the page makes it: `paper`
-/// (Riečický et al.'s search of 25 positions per frame, `track::riecicky`)
-/// or embusen's `fused`; [`TrackMethod`] adds the parameters.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, Tsify)]
-#[serde(rename_all = "lowercase")]
-pub enum TrackMethodKind {
-    #[default]
-    Fused,
-    Paper,
-}
+/// A tracker across the boundary: its name ([`TrackMethod::name`],
+/// `fused` or `paper`), the tracker with its defaults as `embusen track
+/// --method` takes it.
+mod track_method_by_name {
+    use super::*;
 
-impl TrackMethodKind {
-    /// The tracker with its default parameters, as `embusen track --method`.
-    pub fn track_method(self) -> TrackMethod {
-        match self {
-            TrackMethodKind::Fused => TrackMethod::Fused(FusedParams::default()),
-            TrackMethodKind::Paper => TrackMethod::Paper(RiecickyParams::default()),
-        }
+    pub fn serialize<S: Serializer>(method: &TrackMethod, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(method.name())
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<TrackMethod, D::Error> {
+        let name = String::deserialize(deserializer)?;
+        TrackMethod::named(&name).ok_or_else(|| de::Error::unknown_variant(&name, &TrackMethod::NAMES))
     }
 }
 
@@ -129,7 +122,9 @@ pub struct TakeOptions {
     /// The still of the empty room (PNG).
     pub background: NamedFile,
     pub video: VideoFacts,
-    pub method: TrackMethodKind,
+    #[serde(with = "track_method_by_name")]
+    #[tsify(type = "\"fused\" | \"paper\"")]
+    pub method: TrackMethod,
     /// Added to a video frame's time to read the BVH (s), as `--offset-s`.
     pub offset_s: f64,
 }
@@ -377,8 +372,8 @@ pub struct FrameCandidates {
     pub chosen: Option<usize>,
 }
 
-impl From<PaperCandidates> for FrameCandidates {
-    fn from(c: PaperCandidates) -> FrameCandidates {
+impl From<RiecickyCandidates> for FrameCandidates {
+    fn from(c: RiecickyCandidates) -> FrameCandidates {
         FrameCandidates {
             tried: c.tried.into_iter().map(|(p, e)| Candidate { floor: p.into(), energy_px: e }).collect(),
             chosen: c.chosen,

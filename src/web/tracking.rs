@@ -54,7 +54,7 @@ impl CameraJob {
             o.background.named_bytes(),
             &v.name,
             v.into(),
-            o.method.track_method(),
+            o.method,
             o.offset_s,
         )
         .map_err(js_error)?;
@@ -202,10 +202,10 @@ impl CameraJob {
         Ok(estimate.map(|e| OffsetFound::from(e).into_ts()).transpose()?)
     }
 
-    /// The paper's candidates of each video frame of the finished track
+    /// Riečický et al.'s candidates of each video frame of the finished track
     /// (none for `fused`).
-    pub fn paper_candidates(&self) -> Result<Vec<Ts<FrameCandidates>>, JsError> {
-        let frames = self.job.paper_candidates().into_iter().map(|c| FrameCandidates::from(c).into_ts());
+    pub fn riecicky_candidates(&self) -> Result<Vec<Ts<FrameCandidates>>, JsError> {
+        let frames = self.job.riecicky_candidates().into_iter().map(|c| FrameCandidates::from(c).into_ts());
         Ok(frames.collect::<Result<_, _>>()?)
     }
 }

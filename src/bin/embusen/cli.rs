@@ -232,7 +232,7 @@ fn run_eval(
     if !suit_pairs.is_empty() {
         failed += eval_suits(&suit_pairs);
     }
-    let methods = [Method::Paper(HachajParams::default()), Method::default()];
+    let methods = [Method::Hachaj(HachajParams::default()), Method::default()];
     let closure_files = expand(closure);
     if !closure_files.is_empty() {
         println!("katas: hips floor distance between the first and last frame, vendor translation removed");
@@ -410,7 +410,7 @@ fn run_translate(args: &TranslateArgs) -> ExitCode {
             }
             Method::Contact(params)
         }
-        MethodArg::Paper => Method::Paper(HachajParams {
+        MethodArg::Paper => Method::Hachaj(HachajParams {
             window_s: args.window_s,
             dy_eps_cm: args.dy_eps,
             smoothing: match args.smoothing {
@@ -472,7 +472,7 @@ fn describe(recording: &Recording, t: &Translated) -> String {
     let frames = recording.frame_count().max(1);
     let percent = |count: usize| 100.0 * count as f64 / frames as f64;
     let decided = match &t.decisions {
-        Decisions::Paper(p) => {
+        Decisions::Hachaj(p) => {
             let pinned =
                 |pass: &[Option<embusen::body::feet::Foot>]| pass.iter().filter(|p| p.is_some()).count();
             format!(
@@ -528,7 +528,7 @@ fn run_demo() -> ExitCode {
     );
     println!("  true hips floor path {:.2} m", floor_path_cm(&demo.true_root_cm) / 100.0);
     let mut errors = Vec::new();
-    for method in [Method::default(), Method::Paper(HachajParams::default())] {
+    for method in [Method::default(), Method::Hachaj(HachajParams::default())] {
         let (translated, error) = match evaluate_demo(&demo, &method) {
             Ok(t) => t,
             Err(e) => {

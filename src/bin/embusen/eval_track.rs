@@ -132,7 +132,7 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
         // The first view's fused track, to weigh a second view's against.
         let mut first_view: Option<(Track, VideoTiming)> = None;
         let methods =
-            [TrackMethod::Paper(RiecickyParams::default()), TrackMethod::Fused(FusedParams::default())];
+            [TrackMethod::Riecicky(RiecickyParams::default()), TrackMethod::Fused(FusedParams::default())];
         for method in methods.into_iter().filter(wanted) {
             let inputs = TakeInputs { recording: recording.clone(), camera, background: room.clone() };
             let (mut job, mut frames) = open_job(inputs, &video, method)?;
