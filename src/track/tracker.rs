@@ -14,7 +14,7 @@ use glam::{DMat2, DVec2, DVec3};
 use crate::error::Error;
 use crate::image::pipeline::Features;
 use crate::image::{GreyImage, Shrink};
-use crate::track::fused::{FusedParams, FusedTracker, SmoothedFrame};
+use crate::track::fused::{FusedParams, FusedTrack, FusedTracker, SmoothedFrame};
 use crate::track::path::PathRequest;
 use crate::track::riecicky::{RiecickyParams, RiecickyTracker};
 use crate::track::setup::{FrameEstimate, TrackSetup};
@@ -301,9 +301,9 @@ impl Tracker {
             }
             TrackerState::Fused(fused) => {
                 let params = fused.params();
-                let (smoothed, mean_innovation, warnings) =
+                let FusedTrack { path, mean_innovation, warnings } =
                     fused.finish(&self.scales.whole().camera, 1.0 / self.scales.whole().timing.fps);
-                let smoothed: Vec<SmoothedFrame> = smoothed.unwrap_or_else(|| {
+                let smoothed: Vec<SmoothedFrame> = path.unwrap_or_else(|| {
                     frames.iter().map(|f| SmoothedFrame::round(f.floor_cm, f64::NAN)).collect()
                 });
                 (smoothed, warnings, TrackDetails::Fused { params, mean_innovation })

@@ -81,6 +81,20 @@ impl SmoothedFrame {
     }
 }
 
+/// What the fused tracker gives at the end of a video.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FusedTrack {
+    /// Per frame read, where the hips are with how uncertain (cm, one σ:
+    /// the smoother's, and that of the depth the soles corrected); `None`
+    /// when no frame had a pose (the frames stay as they were).
+    pub path: Option<Vec<SmoothedFrame>>,
+    /// The forward filter's mean squared innovation (NaN when the camera
+    /// placed no frame).
+    pub mean_innovation: f64,
+    /// What the user should know.
+    pub warnings: Vec<String>,
+}
+
 /// The fused tracker in the middle of a video.
 pub struct FusedTracker {
     params: FusedParams,
@@ -275,13 +289,10 @@ impl FusedTracker {
         }
     }
 
-    /// The smoothed path with each frame's uncertainty (cm, one σ: the
-    /// smoother's, and that of the depth the soles corrected) (`None` when
-    /// no frame had a pose: the frames stay as they were), the filter's
-    /// mean squared innovation, and what the user should know: deferred
-    /// path energies that never came count as a fit not believed. The
-    /// frames are `dt_s` apart and were filmed by `camera`.
-    pub fn finish(mut self, camera: &Camera, dt_s: f64) -> (Option<Vec<SmoothedFrame>>, f64, Vec<String>) {
+    /// The finished track (see [`FusedTrack`]): deferred path energies
+    /// that never came count as a fit not believed. The frames are `dt_s`
+    /// apart and were filmed by `camera`.
+    pub fn finish(mut self, camera: &Camera, dt_s: f64) -> FusedTrack {
         let mut warnings = Vec::new();
         let never_came = self.path.give_up_pending();
         if never_came > 0 {
@@ -291,7 +302,7 @@ impl FusedTracker {
         let filter = self.filter.as_ref().filter(|_| self.frames_measured > 0);
         let Some(filter) = filter else {
             if self.steps_cm.is_empty() {
-                return (None, f64::NAN, warnings);
+                return FusedTrack { path: None, mean_innovation: f64::NAN, warnings };
             }
             // Never worse than the inertial path: with no fit to place it,
             // the take is where the suit's own steps put it, from where
@@ -301,7 +312,8 @@ impl FusedTracker {
                 "the camera never saw the body well enough to place it: the track is the suit's own steps (the contact method) from the floor's origin".to_string(),
             );
             let start = SmoothedFrame::round(DVec2::ZERO, self.params.start_search_cm);
-            return (Some(self.suit_steps_from(start, dt_s)), f64::NAN, warnings);
+            let path = Some(self.suit_steps_from(start, dt_s));
+            return FusedTrack { path, mean_innovation: f64::NAN, warnings };
         };
         let params = &self.params;
         let searched = self.path.refilter(
@@ -343,7 +355,7 @@ impl FusedTracker {
             .collect();
         let before_first = self.back_from_first_fit(path.first().copied(), first, dt_s);
         path.splice(0..0, before_first);
-        (Some(path), filter.mean_innovation(), warnings)
+        FusedTrack { path: Some(path), mean_innovation: filter.mean_innovation(), warnings }
     }
 
     /// What the user should know when the planted feet were seldom seen:
@@ -426,3 +438,66 @@ fn step_sigma_cm(params: &FusedParams, step_cm: DVec2, dt_s: f64) -> f64 {
 /// the path's depth to the silhouette: one stance in four seen is about
 /// one sighting a second, where the bias is weighed over half a second.
 pub const MIN_SOLES_SEEN_SHARE: f64 = 0.25;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::{Distortion, ImageSize, Intrinsics};
+    use glam::DAffine3;
+
+    fn camera() -> Camera {
+        Camera {
+            image_size: ImageSize { width_px: 640, height_px: 480 },
+            intrinsics: Intrinsics { fx_px: 500.0, fy_px: 500.0, cx_px: 320.0, cy_px: 240.0 },
+            distortion: Distortion::default(),
+            camera_from_world: DAffine3::IDENTITY,
+        }
+    }
+
+    #[test]
+    fn a_tracker_that_read_nothing_finishes_with_no_path() {
+        let track = FusedTracker::new(FusedParams::default()).finish(&camera(), 1.0 / 30.0);
+        assert_eq!(track.path, None);
+        assert!(track.mean_innovation.is_nan());
+        assert!(track.warnings.is_empty(), "{:?}", track.warnings);
+    }
+
+    /// Never placed by the camera, the take is where the suit's own steps
+    /// put it from the floor's origin, and says so; each frame is as
+    /// uncertain as the first search was wide, and more with every step.
+    #[test]
+    fn frames_the_camera_never_placed_follow_the_suits_steps_from_the_origin() {
+        let params = FusedParams::default();
+        let mut tracker = FusedTracker::new(params);
+        for _ in 0..4 {
+            tracker.skip_frame();
+        }
+        let dt_s = 1.0 / 30.0;
+        let track = tracker.finish(&camera(), dt_s);
+        let path = track.path.expect("a path");
+        assert_eq!(path.len(), 4);
+        assert!(path.iter().all(|f| f.floor_cm == DVec2::ZERO));
+        assert_eq!(path[0].uncertainty_cm, params.start_search_cm);
+        let sigma = step_sigma_cm(&params, DVec2::ZERO, dt_s);
+        for pair in path.windows(2) {
+            let grown = (pair[0].uncertainty_cm.powi(2) + sigma * sigma).sqrt();
+            assert!((pair[1].uncertainty_cm - grown).abs() < 1e-12, "{pair:?}");
+        }
+        assert!(track.mean_innovation.is_nan());
+        assert_eq!(track.warnings.len(), 1, "{:?}", track.warnings);
+        assert!(track.warnings[0].contains("never saw the body"), "{:?}", track.warnings);
+    }
+
+    /// A step's uncertainty is the suit's stride error on its length plus
+    /// the drift over its time: a longer step is less certain.
+    #[test]
+    fn a_longer_step_is_less_certain() {
+        let params = FusedParams::default();
+        let dt_s = 1.0 / 30.0;
+        let still = step_sigma_cm(&params, DVec2::ZERO, dt_s);
+        let step = step_sigma_cm(&params, DVec2::new(3.0, 4.0), dt_s);
+        let per_frame = frames_per_error(dt_s).sqrt();
+        assert!((still - params.drift_cm_per_s * dt_s * per_frame).abs() < 1e-12);
+        assert!((step - still - params.stride_error * 5.0 * per_frame).abs() < 1e-12);
+    }
+}
