@@ -105,6 +105,24 @@ impl Distortion {
 }
 
 impl Camera {
+    /// For tests: a `width_px` × `height_px` camera of focal length `f_px`
+    /// centred on the image, without distortion, at the world's origin
+    /// looking along its +z.
+    #[cfg(test)]
+    pub fn at_origin(width_px: u32, height_px: u32, f_px: f64) -> Camera {
+        Camera {
+            image_size: ImageSize { width_px, height_px },
+            intrinsics: Intrinsics {
+                fx_px: f_px,
+                fy_px: f_px,
+                cx_px: width_px as f64 / 2.0,
+                cy_px: height_px as f64 / 2.0,
+            },
+            distortion: Distortion::default(),
+            camera_from_world: DAffine3::IDENTITY,
+        }
+    }
+
     /// The camera's pose in the world: camera cm → world cm.
     pub fn world_from_camera(&self) -> DAffine3 {
         self.camera_from_world.inverse()

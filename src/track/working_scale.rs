@@ -126,44 +126,28 @@ pub fn shrunk_frame(frame: &GreyImage, shrink: Shrink) -> std::borrow::Cow<'_, G
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::camera::{Distortion, ImageSize, Intrinsics};
-    use glam::DAffine3;
-
-    fn camera(width_px: u32, height_px: u32, f_px: f64) -> Camera {
-        Camera {
-            image_size: ImageSize { width_px, height_px },
-            intrinsics: Intrinsics {
-                fx_px: f_px,
-                fy_px: f_px,
-                cx_px: width_px as f64 / 2.0,
-                cy_px: height_px as f64 / 2.0,
-            },
-            distortion: Distortion::default(),
-            camera_from_world: DAffine3::IDENTITY,
-        }
-    }
 
     #[test]
     fn a_frame_is_shrunk_as_far_as_a_pixel_stays_within_a_centimetre_at_the_body() {
         let quarters = |camera: &Camera, depth_cm| working_scale(camera, depth_cm).quarters();
         // 640×480 at 500 px: a pixel is 1.2 cm at 6 m, read whole.
-        assert_eq!(quarters(&camera(640, 480, 500.0), 600.0), 4);
+        assert_eq!(quarters(&Camera::at_origin(640, 480, 500.0), 600.0), 4);
         // The same camera at 1440×1080: 0.36 cm at 4 m, read at 2.5 times
         // less (a pixel of 0.89 cm; 2.75 would be 0.98, but the steps are
         // halves).
-        assert_eq!(quarters(&camera(1440, 1080, 1125.0), 400.0), 10);
+        assert_eq!(quarters(&Camera::at_origin(1440, 1080, 1125.0), 400.0), 10);
         // A portrait phone at 1.5 m: 0.1 cm, but no side under 160 px
         // (1080 / 6.5 = 166).
-        assert_eq!(quarters(&camera(1080, 1920, 1500.0), 150.0), 26);
-        assert_eq!(quarters(&camera(1080, 1920, 1500.0), 50.0), 26);
+        assert_eq!(quarters(&Camera::at_origin(1080, 1920, 1500.0), 150.0), 26);
+        assert_eq!(quarters(&Camera::at_origin(1080, 1920, 1500.0), 50.0), 26);
         // Far away, or no depth at all: whole.
-        assert_eq!(working_scale(&camera(1440, 1080, 1125.0), 5000.0), Shrink::NONE);
-        assert_eq!(working_scale(&camera(1440, 1080, 1125.0), f64::NAN), Shrink::NONE);
+        assert_eq!(working_scale(&Camera::at_origin(1440, 1080, 1125.0), 5000.0), Shrink::NONE);
+        assert_eq!(working_scale(&Camera::at_origin(1440, 1080, 1125.0), f64::NAN), Shrink::NONE);
     }
 
     #[test]
     fn a_working_scale_from_elsewhere_is_checked_against_the_camera() {
-        let portrait = camera(1080, 1920, 1500.0);
+        let portrait = Camera::at_origin(1080, 1920, 1500.0);
         let shrink = |quarters| Shrink::from_quarters(quarters).unwrap();
         assert_eq!(checked_working_scale(&portrait, Shrink::NONE, "frame 3").unwrap(), Shrink::NONE);
         assert_eq!(checked_working_scale(&portrait, shrink(26), "frame 3").unwrap(), shrink(26));

@@ -442,16 +442,8 @@ pub const MIN_SOLES_SEEN_SHARE: f64 = 0.25;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::camera::{Distortion, ImageSize, Intrinsics};
-    use glam::DAffine3;
-
     fn camera() -> Camera {
-        Camera {
-            image_size: ImageSize { width_px: 640, height_px: 480 },
-            intrinsics: Intrinsics { fx_px: 500.0, fy_px: 500.0, cx_px: 320.0, cy_px: 240.0 },
-            distortion: Distortion::default(),
-            camera_from_world: DAffine3::IDENTITY,
-        }
+        Camera::at_origin(640, 480, 500.0)
     }
 
     #[test]
