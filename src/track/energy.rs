@@ -225,12 +225,12 @@ impl<'a> FrameTerms<'a> {
 
     /// How `silhouette` fits; `None` when it covers no pixel of the image.
     pub fn fit(&self, silhouette: &Silhouette) -> Option<SilhouetteFit> {
-        self.fit_and_foreground(silhouette).map(|(fit, _)| fit)
+        self.fit_and_sums(silhouette).map(|(fit, _)| fit)
     }
 
-    /// [`FrameTerms::fit`], and the foreground pixels under the silhouette
-    /// and its area (px), as [`FrameTerms::foreground_under`] counts them.
-    fn fit_and_foreground(&self, silhouette: &Silhouette) -> Option<(SilhouetteFit, (u64, u64))> {
+    /// [`FrameTerms::fit`], and the sums over the silhouette's spans it
+    /// was made from.
+    fn fit_and_sums(&self, silhouette: &Silhouette) -> Option<(SilhouetteFit, SpanSums)> {
         if silhouette.image_size.width_px != self.width_px
             || silhouette.image_size.height_px != self.height_px
         {
@@ -248,30 +248,19 @@ impl<'a> FrameTerms<'a> {
         if contour_px == 0 {
             return None;
         }
-        let (mut outside, mut on_foreground, mut area) = (0.0f64, 0u64, 0u64);
-        for span in &silhouette.spans {
-            match self.prefix_row(span.row) {
-                Some(row) => {
-                    let ((end_sum, end_on), (start_sum, start_on)) =
-                        (self.sums_to(row, span.end), self.sums_to(row, span.start));
-                    outside += end_sum - start_sum;
-                    on_foreground += (end_on - start_on) as u64;
-                }
-                None => outside += (span.end - span.start) as f64 * self.truncation_px as f64,
-            }
-            area += (span.end - span.start) as u64;
-        }
+        let sums = self.span_sums(silhouette);
+        let area = sums.area.max(1) as f64;
         let n = contour_px as f64;
         let fit = SilhouetteFit {
             contour_px,
             chamfer_px: chamfer / n,
             truncated_chamfer_px: truncated / n,
-            outside_px: outside / area.max(1) as f64,
+            outside_px: sums.outside_px / area,
             near_edge_share: near as f64 / n,
-            on_foreground_share: on_foreground as f64 / area.max(1) as f64,
+            on_foreground_share: sums.on_foreground as f64 / area,
             uncovered_px: 0.0,
         };
-        Some((fit, (on_foreground, area)))
+        Some((fit, sums))
     }
 
     /// How `silhouette` fits, with the foreground it leaves uncovered in the
@@ -286,28 +275,45 @@ impl<'a> FrameTerms<'a> {
         widened: &Silhouette,
         band_px: f64,
     ) -> Option<SilhouetteFit> {
-        let (fit, (inner_on, inner_area)) = self.fit_and_foreground(silhouette)?;
+        let (fit, inner) = self.fit_and_sums(silhouette)?;
         if widened.image_size != silhouette.image_size {
             return Some(fit);
         }
-        let (outer_on, outer_area) = self.foreground_under(widened);
-        let band_area = outer_area.saturating_sub(inner_area);
-        let band_on = outer_on.saturating_sub(inner_on);
+        let outer = self.span_sums(widened);
+        let band_area = outer.area.saturating_sub(inner.area);
+        let band_on = outer.on_foreground.saturating_sub(inner.on_foreground);
         let uncovered_px = if band_area == 0 { 0.0 } else { band_on as f64 / band_area as f64 * band_px };
         Some(SilhouetteFit { uncovered_px, ..fit })
     }
 
-    /// The foreground pixels under `silhouette`, and its area (px).
-    fn foreground_under(&self, silhouette: &Silhouette) -> (u64, u64) {
-        let (mut on, mut area) = (0u64, 0u64);
+    /// The sums over `silhouette`'s spans, one subtraction of prefix sums
+    /// a span.
+    fn span_sums(&self, silhouette: &Silhouette) -> SpanSums {
+        let mut sums = SpanSums { outside_px: 0.0, on_foreground: 0, area: 0 };
         for span in &silhouette.spans {
-            if let Some(row) = self.prefix_row(span.row) {
-                on += (self.sums_to(row, span.end).1 - self.sums_to(row, span.start).1) as u64;
+            match self.prefix_row(span.row) {
+                Some(row) => {
+                    let ((end_sum, end_on), (start_sum, start_on)) =
+                        (self.sums_to(row, span.end), self.sums_to(row, span.start));
+                    sums.outside_px += end_sum - start_sum;
+                    sums.on_foreground += (end_on - start_on) as u64;
+                }
+                None => sums.outside_px += (span.end - span.start) as f64 * self.truncation_px as f64,
             }
-            area += (span.end - span.start) as u64;
+            sums.area += (span.end - span.start) as u64;
         }
-        (on, area)
+        sums
     }
+}
+
+/// What a silhouette's spans cover in one frame's terms.
+struct SpanSums {
+    /// The truncated distance outside the foreground, summed (px).
+    outside_px: f64,
+    /// The foreground pixels covered.
+    on_foreground: u64,
+    /// The pixels covered.
+    area: u64,
 }
 
 /// One frame's body as the fused energy scores it: posed, widened by the
