@@ -472,8 +472,9 @@ fn app_tracks(
     }
     let (export, _) = job.finish().unwrap();
     // As the page runs it on two cores: the path search's energies left to
-    // a second job of the same take, handed back a few frames late — the
-    // same bytes.
+    // a second job of the same take, scored from the features the first
+    // made (as bytes, as the page's workers pass them), handed back a few
+    // frames late — the same bytes.
     let open = || {
         let (v, d) = (&video.display().to_string(), description);
         TrackingJob::open(named(0), named(1), named(2), v, d, TrackMethod::Fused(FusedParams::default()), 0.0)
@@ -484,11 +485,8 @@ fn app_tracks(
     let mut late = std::collections::VecDeque::new();
     for planes in raw.stdout.chunks_exact(frame_bytes) {
         tracking.push_luma(&planes[..w * h], w, false).unwrap();
-        if let Some(request) = tracking.take_path_request() {
-            late.push_back((
-                request.frame,
-                scoring.score_path(&request, &planes[..w * h], w, false).unwrap(),
-            ));
+        if let Some((request, features)) = tracking.take_path_work() {
+            late.push_back((request.frame, scoring.score_path(&request, &features.to_bytes()).unwrap()));
         }
         while late.len() > 3 {
             let (frame, energies) = late.pop_front().unwrap();

@@ -1,8 +1,9 @@
 // @ts-check
 // The path scorer's Web Worker, started by the tracker's (./track-worker.js)
 // for the fused tracker: a second CameraJob of the same take that scores the
-// path search's energies of each frame the tracker hands over, from the same
-// luma plane — the same bytes as the tracker scoring them itself. Its
+// path search's energies of each frame the tracker hands over, from the
+// features the tracker made of it — the same bytes as the tracker scoring
+// them itself. Its
 // messages are typed in ./camera/protocol.js (`ToScorer`, `FromScorer`); any
 // other is an error, after which it takes nothing more.
 
@@ -32,7 +33,7 @@ async function handle(m) {
     case "score": {
       if (!job) throw new Error("a path to score before the take was opened");
       const started = performance.now();
-      const energies = job.score_path(m.work, new Uint8Array(m.luma), m.stride, m.fullRange);
+      const energies = job.score_path(m.work, new Uint8Array(m.features));
       post({ type: "energies", frame: m.work.frame, energies, ms: performance.now() - started });
       return;
     }

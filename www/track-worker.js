@@ -14,8 +14,9 @@
 //
 // For the fused tracker it starts a second worker (./path-scorer-worker.js)
 // with the same take: half the tracker's work (the path search's energies,
-// CameraJob.defer_path_energies) is done there, from the same frame, while
-// this one reads the next — two cores for one take, the same bytes.
+// CameraJob.defer_path_energies) is done there, from the frame's features
+// this one made, while this one reads the next — two cores for one take,
+// the same bytes.
 
 import init, { CameraJob } from "./pkg-camera/embusen.js";
 import { decodable, decodeFrames } from "./camera/decode.js";
@@ -113,10 +114,10 @@ class Tracking {
   }
 
   /**
-   * Tracks one frame, hands its path search to the scorer, and says where
-   * it put the actor. A few frames' paths may wait to be scored (memory
-   * stays bounded: a luma plane each).
-   * @param {Uint8Array} luma the frame's luma plane (given away to the scorer)
+   * Tracks one frame, hands its path search to the scorer with the frame's
+   * features, and says where it put the actor. A few frames' paths may
+   * wait to be scored (memory stays bounded: the features of a few).
+   * @param {Uint8Array} luma the frame's luma plane
    * @param {number} stride
    * @param {boolean} fullRange
    */
@@ -127,7 +128,8 @@ class Tracking {
     const progress = this.job.push_luma(luma, stride, fullRange);
     const work = this.scorer ? this.job.path_work() : undefined;
     if (this.scorer && work) {
-      this.scorer.send({ type: "score", work, luma: /** @type {ArrayBuffer} */ (luma.buffer), stride, fullRange }, [luma.buffer]);
+      const features = /** @type {ArrayBuffer} */ (this.job.path_features().buffer);
+      this.scorer.send({ type: "score", work, features }, [features]);
     }
     this.busyMs += performance.now() - started;
     post({ type: "progress", progress });

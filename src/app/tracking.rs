@@ -273,28 +273,21 @@ impl TrackingJob {
         }
     }
 
-    /// What the frame just tracked leaves to score, when deferred.
-    pub fn take_path_request(&mut self) -> Option<PathRequest> {
-        self.tracker.as_mut().and_then(Tracker::take_path_request)
-    }
-
-    /// The same with the frame's features, for a scorer in this process
-    /// ([`Tracker::take_path_work`]).
+    /// What the frame just tracked leaves to score, when deferred, with the
+    /// frame's features for the scorer ([`Tracker::take_path_work`]; to
+    /// another worker as [`Features::to_bytes`]).
     pub fn take_path_work(&mut self) -> Option<(PathRequest, Features)> {
         self.tracker.as_mut().and_then(Tracker::take_path_work)
     }
 
-    /// Scores another job's request from the same frame's luma plane (this
-    /// job tracks nothing itself).
-    pub fn score_path(
-        &mut self,
-        request: &PathRequest,
-        luma: &[u8],
-        stride: usize,
-        full_range: bool,
-    ) -> Result<Vec<f64>, Error> {
-        let grey = self.grey_of(luma, stride, full_range, request.frame)?;
-        self.path_scorer()?.energies(request, &grey)
+    /// Scores another job's request from the features that job made of the
+    /// frame ([`TrackingJob::take_path_work`], [`Features::to_bytes`]):
+    /// the page's second worker, which shares no memory with the tracker's,
+    /// reads the frame no more than the CLI's second thread does. This job
+    /// tracks nothing itself.
+    pub fn score_path(&mut self, request: &PathRequest, features: &[u8]) -> Result<Vec<f64>, Error> {
+        let features = Features::from_bytes(features, &format!("video frame {}", request.frame))?;
+        self.path_scorer()?.energies_with(request, &features)
     }
 
     /// The scorer of the fused energy apart from the tracker (made when

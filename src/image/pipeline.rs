@@ -154,3 +154,134 @@ impl Features {
         ]
     }
 }
+
+/// The bytes before a frame's planes in [`Features::to_bytes`].
+const FEATURES_HEADER_BYTES: usize = 16;
+
+/// The bytes a pixel takes in [`Features::to_bytes`]: the difference, the
+/// foreground and the edges one each, the two distances four each.
+const FEATURES_BYTES_PER_PIXEL: usize = 3 + 2 * 4;
+
+impl Features {
+    /// The features as bytes, for a path scorer in another worker, which
+    /// shares no memory with the tracker that made them: the width and
+    /// the height (u32), the noise (f32), the threshold (u8) and three
+    /// bytes of padding, then the planes row by row — the difference, the
+    /// foreground and the edges (a byte a pixel, 1 on and 0 off), the edge
+    /// and the outside distances (f32) — all little-endian.
+    /// [`Features::from_bytes`] gives back the same bits.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let count = self.difference.pixels.len();
+        let mut bytes = Vec::with_capacity(FEATURES_HEADER_BYTES + FEATURES_BYTES_PER_PIXEL * count);
+        bytes.extend_from_slice(&self.difference.width_px.to_le_bytes());
+        bytes.extend_from_slice(&self.difference.height_px.to_le_bytes());
+        bytes.extend_from_slice(&self.noise_sd.to_le_bytes());
+        bytes.extend_from_slice(&[self.threshold_level, 0, 0, 0]);
+        bytes.extend_from_slice(&self.difference.pixels);
+        for mask in [&self.foreground, &self.edges] {
+            bytes.extend(mask.on.iter().map(|&on| u8::from(on)));
+        }
+        for distances in [&self.edge_distance, &self.outside_distance] {
+            bytes.extend(distances.distance_px.iter().flat_map(|d| d.to_le_bytes()));
+        }
+        bytes
+    }
+
+    /// The features [`Features::to_bytes`] wrote; an error for `label`
+    /// when the bytes are not such (too few or too many for their size, a
+    /// mask byte neither 0 nor 1).
+    pub fn from_bytes(bytes: &[u8], label: &str) -> Result<Features, Error> {
+        let word = |at: usize| bytes.get(at..at + 4).and_then(|b| <[u8; 4]>::try_from(b).ok());
+        let (Some(width), Some(height), Some(noise), Some(&threshold_level)) =
+            (word(0), word(4), word(8), bytes.get(12))
+        else {
+            return Err(Error::whole(
+                label,
+                format!("{} bytes of features: too few for the header", bytes.len()),
+            ));
+        };
+        let (width_px, height_px) = (u32::from_le_bytes(width), u32::from_le_bytes(height));
+        let count = width_px as usize * height_px as usize;
+        let expected =
+            count.checked_mul(FEATURES_BYTES_PER_PIXEL).and_then(|n| n.checked_add(FEATURES_HEADER_BYTES));
+        if expected != Some(bytes.len()) {
+            return Err(Error::whole(
+                label,
+                format!("{} bytes of features for a {width_px}×{height_px} frame", bytes.len()),
+            ));
+        }
+        let planes = &bytes[FEATURES_HEADER_BYTES..];
+        let (difference, rest) = planes.split_at(count);
+        let (foreground, rest) = rest.split_at(count);
+        let (edges, distances) = rest.split_at(count);
+        let difference = GreyImage::new(width_px, height_px, difference.to_vec(), label)?;
+        let mask = |on: &[u8], what: &str| {
+            if let Some(k) = on.iter().position(|&b| b > 1) {
+                return Err(Error::whole(label, format!("{what} byte {k} is {}, not 0 or 1", on[k])));
+            }
+            Ok(Mask { width_px, height_px, on: on.iter().map(|&b| b == 1).collect() })
+        };
+        let distance = |plane: &[u8]| DistanceImage {
+            width_px,
+            height_px,
+            distance_px: plane
+                .chunks_exact(4)
+                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect(),
+        };
+        let (edge_distance, outside_distance) = distances.split_at(4 * count);
+        Ok(Features {
+            difference,
+            noise_sd: f32::from_le_bytes(noise),
+            threshold_level,
+            foreground: mask(foreground, "the foreground's")?,
+            edges: mask(edges, "the edges'")?,
+            edge_distance: distance(edge_distance),
+            outside_distance: distance(outside_distance),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A frame's features with every plane different, made by the pipeline.
+    fn some_features() -> Features {
+        let (w, h) = (23u32, 17u32);
+        let background = GreyImage::filled(w, h, 60);
+        let mut frame = background.clone();
+        for y in 4..13 {
+            for x in 6..15 {
+                frame.pixels[(y * w + x) as usize] = 180 + (x * y % 50) as u8;
+            }
+        }
+        let params = PipelineParams { truncate_px: Some(5.0), ..PipelineParams::default() };
+        features(&frame, &background, &params, "frame").unwrap()
+    }
+
+    #[test]
+    fn features_come_back_from_their_bytes_bit_for_bit() {
+        let features = some_features();
+        assert!(features.foreground.count() > 0 && features.edges.count() > 0);
+        let bytes = features.to_bytes();
+        assert_eq!(bytes.len(), 16 + 11 * 23 * 17);
+        let back = Features::from_bytes(&bytes, "frame 3").unwrap();
+        assert_eq!(back.digests(), features.digests());
+        assert_eq!(back.noise_sd.to_bits(), features.noise_sd.to_bits());
+        assert_eq!(back.threshold_level, features.threshold_level);
+    }
+
+    #[test]
+    fn bytes_that_are_not_features_are_refused_naming_the_frame() {
+        let bytes = some_features().to_bytes();
+        let refused = |bytes: &[u8]| Features::from_bytes(bytes, "frame 3").unwrap_err().to_string();
+        for said in [refused(&bytes[..10]), refused(&bytes[..bytes.len() - 1])] {
+            assert!(said.contains("frame 3") && said.contains("bytes of features"), "{said}");
+        }
+        let mut wrong_mask = bytes.clone();
+        wrong_mask[16 + 23 * 17 + 5] = 2; // the foreground's sixth pixel
+        let said = refused(&wrong_mask);
+        assert!(said.contains("foreground") && said.contains("byte 5 is 2"), "{said}");
+    }
+}

@@ -43,11 +43,14 @@ impl PathScorer {
     }
 
     /// [`PathScorer::energies`] from the frame's `features` as the tracker
-    /// made them ([`crate::track::tracker::Tracker::take_path_work`]).
+    /// made them ([`crate::track::tracker::Tracker::take_path_work`]); an
+    /// error when they are not of the request's working scale.
     pub fn energies_with(&mut self, request: &PathRequest, features: &Features) -> Result<Vec<f64>, Error> {
         let label = format!("video frame {}", request.frame);
         let shrink = checked_working_scale(&self.scales.whole().camera, request.working_scale, &label)?;
         let (setup, scorer) = self.scales.at(shrink);
+        let size = &features.difference;
+        setup.camera.check_image_size(size.width_px, size.height_px, &label)?;
         let Some(body) = setup.posed_body(request.frame)? else {
             return Err(Error::whole(&label, "no pose in the BVH here: no path to score"));
         };

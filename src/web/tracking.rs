@@ -35,6 +35,9 @@ pub struct CameraJob {
     job: TrackingJob,
     /// The opening's warnings (`finish` adds its own).
     warnings: Vec<String>,
+    /// The features of the last `path_work`'s frame, until `path_features`
+    /// gives them away.
+    path_features: Option<Vec<u8>>,
 }
 
 pub(crate) fn js_error(e: impl std::fmt::Display) -> JsError {
@@ -59,7 +62,7 @@ impl CameraJob {
         )
         .map_err(js_error)?;
         let warnings = job.warnings().to_vec();
-        Ok(CameraJob { job, warnings })
+        Ok(CameraJob { job, warnings, path_features: None })
     }
 
     /// The warnings of the opening.
@@ -92,22 +95,27 @@ impl CameraJob {
     }
 
     /// What the frame just tracked leaves to score, for the second job's
-    /// `score_path`; `undefined` when nothing.
+    /// `score_path`; `undefined` when nothing. The frame's features go with
+    /// it: `path_features` gives them, once.
     pub fn path_work(&mut self) -> Result<Option<Ts<PathWork>>, JsError> {
-        Ok(self.job.take_path_request().map(|r| PathWork::from_request(r).into_ts()).transpose()?)
+        let Some((request, features)) = self.job.take_path_work() else { return Ok(None) };
+        self.path_features = Some(features.to_bytes());
+        Ok(Some(PathWork::from_request(request).into_ts()?))
+    }
+
+    /// The features of the frame of the last `path_work`, as bytes for the
+    /// second job (given away: an error when asked twice).
+    pub fn path_features(&mut self) -> Result<Vec<u8>, JsError> {
+        self.path_features
+            .take()
+            .ok_or_else(|| JsError::new("no path work's features to give: call path_work first"))
     }
 
     /// The energies (px) of another job's `path_work`, one per candidate in
-    /// its order, from the same frame's luma plane.
-    pub fn score_path(
-        &mut self,
-        work: Ts<PathWork>,
-        luma: &[u8],
-        stride: usize,
-        full_range: bool,
-    ) -> Result<Vec<f64>, JsError> {
+    /// its order, from the `path_features` that job gave with it.
+    pub fn score_path(&mut self, work: Ts<PathWork>, features: &[u8]) -> Result<Vec<f64>, JsError> {
         let request = PathWork::from_js(work).map_err(js_error)?;
-        self.job.score_path(&request, luma, stride, full_range).map_err(js_error)
+        self.job.score_path(&request, features).map_err(js_error)
     }
 
     /// Hands back the energies of this job's work for `frame`.

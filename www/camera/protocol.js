@@ -72,9 +72,10 @@
 
 /**
  * The tracker's worker to its path scorer: the same take (without the
- * video), then a frame's work with its luma plane.
+ * video), then a frame's work with the frame's features as the tracker
+ * made them (CameraJob.path_features: the frame is read once).
  * @typedef {{type: "open", take: TakeOptions}
- *   | {type: "score", work: PathWork, luma: ArrayBuffer, stride: number, fullRange: boolean}} ToScorer
+ *   | {type: "score", work: PathWork, features: ArrayBuffer}} ToScorer
  */
 
 /**
