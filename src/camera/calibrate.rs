@@ -17,7 +17,7 @@
 //!   then `fx, fy, cx, cy, k1, k2` and every view's pose refined together.
 //!
 //! The homographies and the starts they give are `homography`'s, the
-//! minimiser `least_squares`'s (its [`Damping::BOARD`] rules).
+//! minimiser `least_squares`'s.
 
 use glam::{DAffine3, DMat3, DVec2, DVec3};
 
@@ -25,7 +25,7 @@ use super::board::{Board, BoardCorner};
 use super::homography::{
     FocalSolve, PoseFit, focal_from_homography, homography, pose_from_homography, zhang_intrinsics,
 };
-use super::least_squares::{CentralDifferences, Damping, minimise};
+use super::least_squares::{CentralDifferences, minimise};
 use super::pinhole::{Camera, Distortion, ImageSize, Intrinsics};
 use super::rotation::rotation_from_rodrigues;
 use crate::error::Error;
@@ -282,7 +282,7 @@ impl BoardFit {
                 self.with_params(free, &starts, p).residuals(views, out)
             },
         };
-        let params = match minimise(&problem, params.clone(), &Damping::BOARD) {
+        let params = match minimise(&problem, params.clone()) {
             Some((solved, _)) => solved,
             None => params,
         };

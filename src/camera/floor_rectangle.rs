@@ -30,7 +30,7 @@
 use glam::{DAffine3, DMat3, DVec2, DVec3};
 
 use super::homography::{FocalSolve, PoseFit, focal_from_homography, pose_from_homography, square_to_quad};
-use super::least_squares::{Damping, LeastSquares, minimise, solve_pivoting};
+use super::least_squares::{LeastSquares, minimise, solve_pivoting};
 use super::rotation::{rotation_from_rodrigues, skew};
 use super::{Camera, Distortion, ImageSize, Intrinsics};
 use crate::error::Error;
@@ -340,7 +340,7 @@ impl LeastSquares for FloorCorners<'_> {
     }
 }
 
-/// Levenberg–Marquardt ([`Damping::FLOOR`]) on the pose, and on the focal
+/// Levenberg–Marquardt (`least_squares`'s one policy) on the pose, and on the focal
 /// length when `with_focal`, from `start` and `focal_px`; then the
 /// first-order spread of the camera centre and the focal length per pixel
 /// of click error. `None` when the start does not see the corners.
@@ -355,7 +355,7 @@ fn refine(
     let f_unit = focal_px;
     let problem = FloorCorners { world, centred, with_focal, t_unit, f_unit };
     let n = problem.unknowns();
-    let ((pose, f), r) = minimise(&problem, (start, focal_px), &Damping::FLOOR)?;
+    let ((pose, f), r) = minimise(&problem, (start, focal_px))?;
 
     // First-order covariance for one pixel of noise per coordinate: (JᵀJ)⁻¹.
     let (a, _) = problem.normal_equations(&(pose, f), &r);

@@ -6,11 +6,10 @@
 //! They are written here rather than pulled in: the problems have at most a
 //! few dozen unknowns, and the core must build for wasm lean.
 //!
-//! The minimiser is one loop with its rules as [`Damping`] options: the
-//! board's calibration ([`Damping::BOARD`]) and the four floor corners'
-//! ([`Damping::FLOOR`]) were tuned apart and are held to their figures
-//! (the calibrations' tests and the golden check), so each keeps its own
-//! rules rather than sharing one set.
+//! The minimiser has one damping policy, Marquardt's (see [`minimise`]),
+//! for the board's calibration and the four floor corners' alike: the
+//! rules are about the arithmetic of a damped Gauss–Newton step, not about
+//! either problem.
 
 /// Eigenvalues and eigenvectors (`vectors[i*n..(i+1)*n]` belongs to
 /// `values[i]`) of the symmetric `n × n` matrix `a` (row major), by cyclic
@@ -144,221 +143,86 @@ pub trait LeastSquares {
     fn moved(&self, state: &Self::State, delta: &[f64]) -> Self::State;
 }
 
-/// The rules of [`minimise`]'s damping: how the step is damped, how the
-/// damping follows the steps, and when to stop.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Damping {
-    /// The damping of the first step.
-    pub initial: f64,
-    /// Each diagonal entry `a_ii` of `JᵀJ` is damped by the damping times
-    /// `a_ii` floored so (Marquardt's scaling, kept off zero).
-    pub floor: DiagonalFloor,
-    /// How a damped step is solved for.
-    pub solver: Solver,
-    /// After a better step: the damping divided by this, but not below
-    /// `least`.
-    pub better_divisor: f64,
-    pub least: f64,
-    /// After a worse step (or a system that cannot be solved, if
-    /// `on_singular` says so): how the damping grows.
-    pub growth: Growth,
-    /// The damping at which to give up after a worse step.
-    pub give_up: GiveUp,
-    /// What a damped system that cannot be solved does.
-    pub on_singular: OnSingular,
-    /// When a step ends the minimisation.
-    pub converged: Converged,
-    /// How many steps at most.
-    pub limit: Limit,
-}
+/// The damping of the first step: a tenth of a percent of the curvature,
+/// nearly Gauss–Newton, since both calibrations start from a closed-form
+/// answer already near the least.
+const FIRST_DAMPING: f64 = 1e-3;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum DiagonalFloor {
-    /// `a_ii + fraction · max_k a_kk`.
-    AddFractionOfLargest(f64),
-    /// `max(a_ii, least)`.
-    AtLeast(f64),
-}
+/// After a better step the damping is divided by this, after a worse one
+/// (or a damped system that cannot be solved) multiplied by it: Marquardt's
+/// factor ten, so that a few tries span the many decades between a
+/// Gauss–Newton step and a short gradient step.
+const DAMPING_FACTOR: f64 = 10.0;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Solver {
-    /// [`solve_positive`].
-    Cholesky,
-    /// [`solve_pivoting`].
-    Pivoting,
-}
+/// The damping is never divided below this: at 1e-12 of the curvature the
+/// step is the Gauss–Newton step to working precision.
+const LEAST_DAMPING: f64 = 1e-12;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Growth {
-    /// Multiplied by this after each worse step.
-    Times(f64),
-    /// Multiplied by 2, 4, 8, … after worse steps in a row (by 2 again
-    /// after a better one).
-    Doubling,
-}
+/// The damping at which a worse step ends the minimisation: the step is
+/// then a millionth of a millionth of a gradient step, below what `f64` can
+/// still move the state by.
+const MOST_DAMPING: f64 = 1e12;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum GiveUp {
-    /// When the damping reaches this value or more.
-    AtLeast(f64),
-    /// When the damping exceeds this value.
-    Above(f64),
-}
+/// Each diagonal entry is damped in proportion to itself plus this fraction
+/// of the largest (Marquardt's scaling, kept off zero): an unknown the
+/// residuals do not see still gets a damped, finite step, and the damped
+/// system stays positive definite for Cholesky.
+const DIAGONAL_FLOOR: f64 = 1e-12;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum OnSingular {
-    /// Damp more, as after a worse step.
-    DampMore,
-    /// End the minimisation.
-    Stop,
-}
+/// A better step that lowers the cost by no more than this fraction of it
+/// ends the minimisation: the cost is then settled to about the last four
+/// of `f64`'s sixteen digits.
+const LEAST_GAIN: f64 = 1e-12;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Converged {
-    /// A better step that did not lower the cost by more than this
-    /// fraction (nor by a fraction that is not a number).
-    GainAtMost(f64),
-    /// A better step of which every unknown moved by less than
-    /// `better`, or a worse one by less than `worse`.
-    StepBelow { better: f64, worse: f64 },
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Limit {
-    /// At most this many linearisations (each followed by as many damped
-    /// tries as it takes to find a better step).
-    Linearisations(usize),
-    /// At most this many damped tries, better or worse.
-    Tries(usize),
-}
-
-impl Damping {
-    /// The board's calibration (`calibrate`): damping ÷10 / ×10 from 1e-3,
-    /// Cholesky, a relative gain of 1e-12 or 200 linearisations.
-    pub const BOARD: Damping = Damping {
-        initial: 1e-3,
-        floor: DiagonalFloor::AddFractionOfLargest(1e-12),
-        solver: Solver::Cholesky,
-        better_divisor: 10.0,
-        least: 1e-12,
-        growth: Growth::Times(10.0),
-        give_up: GiveUp::AtLeast(1e12),
-        on_singular: OnSingular::DampMore,
-        converged: Converged::GainAtMost(1e-12),
-        limit: Limit::Linearisations(200),
-    };
-
-    /// The four floor corners (`floor_rectangle`): damping ÷3 after a
-    /// better step, ×2, ×4, ×8, … after worse ones, pivoting, a step below
-    /// 1e-15 (1e-14 when worse) or 200 tries.
-    pub const FLOOR: Damping = Damping {
-        initial: 1e-3,
-        floor: DiagonalFloor::AtLeast(1e-12),
-        solver: Solver::Pivoting,
-        better_divisor: 3.0,
-        least: 1e-15,
-        growth: Growth::Doubling,
-        give_up: GiveUp::Above(1e12),
-        on_singular: OnSingular::Stop,
-        converged: Converged::StepBelow { better: 1e-15, worse: 1e-14 },
-        limit: Limit::Tries(200),
-    };
-}
+/// At most this many linearisations (each followed by as many damped tries
+/// as it takes to find a better step): both calibrations converge in tens.
+const MOST_LINEARISATIONS: usize = 200;
 
 /// Levenberg–Marquardt on the sum of the squared residuals of `problem`
-/// from `start`, by the rules of `damping`: the state reached and its
-/// residuals; `None` when the residuals at `start` cannot be evaluated.
-pub fn minimise<P: LeastSquares>(
-    problem: &P,
-    start: P::State,
-    damping: &Damping,
-) -> Option<(P::State, Vec<f64>)> {
+/// from `start`: the state reached and its residuals; `None` when the
+/// residuals at `start` cannot be evaluated. One policy for every fit: the
+/// damped normal equations solved by Cholesky, the damping ÷10 after a
+/// better step and ×10 after a worse one (or a system that cannot be
+/// solved) from 1e-3, until a better step gains no more than 1e-12 of the
+/// cost, the damping reaches 1e12, or 200 linearisations.
+pub fn minimise<P: LeastSquares>(problem: &P, start: P::State) -> Option<(P::State, Vec<f64>)> {
     let n = problem.unknowns();
     let cost_of = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>();
     let mut state = start;
     let mut r = problem.residuals(&state)?;
     let mut cost = cost_of(&r);
-    let mut lambda = damping.initial;
-    let mut growth = 2.0;
+    let mut lambda = FIRST_DAMPING;
     let (mut jtj, mut jtr) = problem.normal_equations(&state, &r);
-    let (mut linearisations, mut tries) = (1, 0);
+    let mut linearisations = 1;
     loop {
-        if let Limit::Tries(most) = damping.limit
-            && tries >= most
-        {
-            break;
-        }
-        tries += 1;
         let mut damped = jtj.clone();
         let largest = (0..n).map(|i| jtj[i * n + i]).fold(0.0, f64::max);
         for i in 0..n {
-            let scale = match damping.floor {
-                DiagonalFloor::AddFractionOfLargest(fraction) => jtj[i * n + i] + fraction * largest,
-                DiagonalFloor::AtLeast(least) => jtj[i * n + i].max(least),
-            };
-            damped[i * n + i] += lambda * scale;
+            damped[i * n + i] += lambda * (jtj[i * n + i] + DIAGONAL_FLOOR * largest);
         }
         let negative: Vec<f64> = jtr.iter().map(|x| -x).collect();
-        let delta = match damping.solver {
-            Solver::Cholesky => solve_positive(&damped, &negative, n),
-            Solver::Pivoting => solve_pivoting(&damped, &negative, n),
-        };
-        let worse = match delta {
-            None if damping.on_singular == OnSingular::Stop => break,
-            None => true,
-            Some(delta) => {
-                let trial = problem.moved(&state, &delta);
-                let better = problem
-                    .residuals(&trial)
-                    .map(|trial_r| (cost_of(&trial_r), trial_r))
-                    .filter(|(trial_cost, _)| *trial_cost < cost);
-                match better {
-                    Some((trial_cost, trial_r)) => {
-                        let gain = (cost - trial_cost) / cost.max(1e-300);
-                        (state, cost, r) = (trial, trial_cost, trial_r);
-                        lambda = (lambda / damping.better_divisor).max(damping.least);
-                        growth = 2.0;
-                        let converged = match damping.converged {
-                            Converged::GainAtMost(least) => gain.is_nan() || gain <= least,
-                            Converged::StepBelow { better, .. } => delta.iter().all(|d| d.abs() < better),
-                        };
-                        if converged {
-                            break;
-                        }
-                        if let Limit::Linearisations(most) = damping.limit
-                            && linearisations >= most
-                        {
-                            break;
-                        }
-                        linearisations += 1;
-                        (jtj, jtr) = problem.normal_equations(&state, &r);
-                        false
-                    }
-                    None => {
-                        if let Converged::StepBelow { worse, .. } = damping.converged
-                            && delta.iter().all(|d| d.abs() < worse)
-                        {
-                            break;
-                        }
-                        true
-                    }
+        let better = solve_positive(&damped, &negative, n).and_then(|delta| {
+            let trial = problem.moved(&state, &delta);
+            let trial_r = problem.residuals(&trial)?;
+            let trial_cost = cost_of(&trial_r);
+            (trial_cost < cost).then_some((trial, trial_cost, trial_r))
+        });
+        match better {
+            Some((trial, trial_cost, trial_r)) => {
+                let gain = (cost - trial_cost) / cost.max(1e-300);
+                (state, cost, r) = (trial, trial_cost, trial_r);
+                lambda = (lambda / DAMPING_FACTOR).max(LEAST_DAMPING);
+                if gain.is_nan() || gain <= LEAST_GAIN || linearisations >= MOST_LINEARISATIONS {
+                    break;
                 }
+                linearisations += 1;
+                (jtj, jtr) = problem.normal_equations(&state, &r);
             }
-        };
-        if worse {
-            match damping.growth {
-                Growth::Times(factor) => lambda *= factor,
-                Growth::Doubling => {
-                    lambda *= growth;
-                    growth *= 2.0;
+            None => {
+                lambda *= DAMPING_FACTOR;
+                if lambda.is_nan() || lambda >= MOST_DAMPING {
+                    break;
                 }
-            }
-            let give_up = match damping.give_up {
-                GiveUp::AtLeast(most) => lambda.is_nan() || lambda >= most,
-                GiveUp::Above(most) => lambda > most,
-            };
-            if give_up {
-                break;
             }
         }
     }
@@ -450,7 +314,7 @@ mod tests {
     }
 
     #[test]
-    fn either_rule_fits_a_curve() {
+    fn the_minimiser_fits_a_curve() {
         // y = 2 e^(−0.7 x), sampled without noise.
         let xs: Vec<f64> = (0..12).map(|i| i as f64 * 0.5).collect();
         let problem = CentralDifferences {
@@ -460,13 +324,8 @@ mod tests {
                 out.extend(xs.iter().map(|&x| p[0] * libm::exp(p[1] * x) - 2.0 * libm::exp(-0.7 * x)));
             },
         };
-        for rules in [Damping::BOARD, Damping::FLOOR] {
-            let (fitted, r) = minimise(&problem, vec![1.0, 0.0], &rules).unwrap();
-            assert!(
-                (fitted[0] - 2.0).abs() < 1e-6 && (fitted[1] + 0.7).abs() < 1e-6,
-                "{rules:?}: {fitted:?}"
-            );
-            assert!(r.iter().all(|x| x.abs() < 1e-6));
-        }
+        let (fitted, r) = minimise(&problem, vec![1.0, 0.0]).unwrap();
+        assert!((fitted[0] - 2.0).abs() < 1e-6 && (fitted[1] + 0.7).abs() < 1e-6, "{fitted:?}");
+        assert!(r.iter().all(|x| x.abs() < 1e-6));
     }
 }
