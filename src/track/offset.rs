@@ -8,6 +8,7 @@
 
 use glam::{DVec2, DVec3};
 
+use crate::camera::least_squares::solve_positive;
 use crate::image::GreyImage;
 use crate::image::pipeline::Features;
 use crate::track::energy::FrameTerms;
@@ -43,15 +44,17 @@ const COARSE_STEP_S: f64 = 0.05;
 /// The parabola is fitted to the offsets this near the least (s).
 const PARABOLA_REACH_S: f64 = 0.25;
 
-/// The vertex of the least-squares parabola through `points` (x, y); `None`
-/// when fewer than three or it opens downwards.
+/// The vertex of the least-squares parabola through `points` (x, y), its
+/// normal equations solved by the camera's toolbox; `None` when fewer than
+/// three distinct x or it opens downwards.
 fn parabola_vertex(points: &[(f64, f64)]) -> Option<f64> {
     if points.len() < 3 {
         return None;
     }
-    // Centred on the mean x for conditioning: y = a + b·u + c·u².
+    // Centred on the mean x for conditioning: y = a + b·u + c·u². The
+    // normal equations are positive definite for three or more distinct x.
     let mean_x = points.iter().map(|p| p.0).sum::<f64>() / points.len() as f64;
-    let mut m = [[0.0f64; 3]; 3];
+    let mut m = [0.0f64; 9];
     let mut v = [0.0f64; 3];
     for &(x, y) in points {
         let u = x - mean_x;
@@ -59,27 +62,12 @@ fn parabola_vertex(points: &[(f64, f64)]) -> Option<f64> {
         for i in 0..3 {
             v[i] += row[i] * y;
             for j in 0..3 {
-                m[i][j] += row[i] * row[j];
+                m[i * 3 + j] += row[i] * row[j];
             }
         }
     }
-    let det = |m: &[[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    };
-    let d = det(&m);
-    if d.abs() < 1e-300 {
-        return None;
-    }
-    // Cramer's rule for b and c.
-    let solve = |k: usize| {
-        let mut mk = m;
-        for (row, value) in mk.iter_mut().zip(v) {
-            row[k] = value;
-        }
-        det(&mk) / d
-    };
-    let (b, c) = (solve(1), solve(2));
+    let fit = solve_positive(&m, &v, 3)?;
+    let (b, c) = (fit[1], fit[2]);
     (c > 0.0).then(|| mean_x - b / (2.0 * c))
 }
 
