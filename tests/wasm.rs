@@ -222,6 +222,41 @@ fn without_a_recording_results_are_errors() {
     assert!(player.settings().is_err());
 }
 
+/// The camera panel's plots and the path scorer read their objects as the
+/// rest of the boundary does: an unknown field refused at any depth, named
+/// where it is (a list's item by its index), what is known still taken.
+#[wasm_bindgen_test]
+fn the_plots_and_the_path_work_refuse_unknown_fields_at_any_depth() {
+    use embusen::web::camera_api::PathWork;
+    use embusen::web::camera_plots::{paint_candidates, paint_top_view};
+    let plot = canvas(64, 48);
+    let candidates = |floor: &str| {
+        format!(
+            r#"{{"tried": [{{"floor": {{"x_cm": 1, "z_cm": 2}}, "energy_px": 3}}, {{"floor": {floor}, "energy_px": 4}}], "chosen": 0}}"#
+        )
+    };
+    let paint = |json: String| paint_candidates(&plot, Some(Ts::new_unchecked(js(&json))), 0);
+    paint(candidates(r#"{"x_cm": 5, "z_cm": 6}"#)).unwrap();
+    let message = error_message(paint(candidates(r#"{"x_cm": 5, "y_cm": 6}"#)).unwrap_err());
+    assert!(message.contains("the candidates' tried[1].floor: unknown field `y_cm`"), "{message}");
+    let message = error_message(paint(candidates("{}").replace("\"chosen\"", "\"picked\"")).unwrap_err());
+    assert!(message.contains("the candidates: unknown field `picked`"), "{message}");
+    let point = |json: &str| Ts::new_unchecked(js(json));
+    paint_top_view(&plot, vec![point(r#"{"x_cm": 1, "z_cm": 2}"#)]).unwrap();
+    let message =
+        error_message(paint_top_view(&plot, vec![point(r#"{"x_cm": 1, "z_cm": 2, "w": 0}"#)]).unwrap_err());
+    assert!(message.contains("unknown field `w`"), "{message}");
+    let work = |candidate: &str| {
+        let json = format!(
+            r#"{{"frame": 0, "terms_at": {{"x_cm": 0, "z_cm": 0}}, "truncate_px": null, "working_scale_quarters": 4, "candidates": [{{"x_cm": 1, "z_cm": 2}}, {candidate}]}}"#
+        );
+        PathWork::from_js(Ts::new_unchecked(js(&json)))
+    };
+    assert_eq!(work(r#"{"x_cm": 3, "z_cm": 4}"#).unwrap().candidates_cm.len(), 2);
+    let message = work(r#"{"x_cm": 3, "z": 4}"#).unwrap_err();
+    assert!(message.contains("the path request's candidates[1]: unknown field `z`"), "{message}");
+}
+
 /// The camera module's boundary refuses what it does not know: an unknown
 /// field (at any depth), an unknown method, a bad corner count, each named.
 #[wasm_bindgen_test]

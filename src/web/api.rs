@@ -4,9 +4,9 @@
 //! (tsify) into `embusen.d.ts`, which `www/embusen.js` is checked against.
 //! An unknown value or field is an error that names it, never a fallback.
 
+use super::js_object::read_ts;
 use serde::{Deserialize, Serialize};
 use tsify::{Ts, Tsify};
-use wasm_bindgen::JsCast;
 
 use crate::app::clock::{self, Clock};
 use crate::app::session;
@@ -72,27 +72,9 @@ pub const DY_EPS_CM: NumberRange = NumberRange { min: 0.0, max: 100.0, step: 0.5
 
 impl PlayerSettings {
     /// The settings from the page's object; an unknown value or field is an
-    /// error that names it. (serde-wasm-bindgen reads a struct's fields by
-    /// name and never sees any other, so `deny_unknown_fields` alone would
-    /// let a misspelt field pass: the keys are checked here.)
+    /// error that names it.
     pub fn from_js(value: Ts<PlayerSettings>) -> Result<PlayerSettings, String> {
-        let value = value.js_value();
-        if let Some(object) = value.dyn_ref::<js_sys::Object>() {
-            let known = PlayerSettings::from_session(&session::Settings::default())
-                .into_js()
-                .map_err(|e| e.to_string())?;
-            let known = js_sys::Object::keys(known.unchecked_ref::<js_sys::Object>());
-            for key in js_sys::Object::keys(object).iter() {
-                if !known.includes(&key, 0) {
-                    let names: Vec<String> = known.iter().filter_map(|k| k.as_string()).collect();
-                    let key = key.as_string().unwrap_or_default();
-                    return Err(format!("unknown setting `{key}`, expected one of `{}`", names.join("`, `")));
-                }
-            }
-        }
-        let settings: PlayerSettings =
-            serde_wasm_bindgen::from_value(value).map_err(|e| format!("settings: {e}"))?;
-        Ok(settings)
+        read_ts(&value, "settings")
     }
 
     /// The page's view of the session's settings.

@@ -11,9 +11,9 @@
 use serde::de::{self, DeserializeOwned, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use tsify::{Ts, Tsify};
-use wasm_bindgen::JsValue;
+use wasm_bindgen::JsCast;
 
-use super::js_object::{read, refuse_unknown_fields};
+use super::js_object::{field, read_ts, refuse_unknown_fields, refuse_unknown_fields_of_each};
 use crate::app::frame_layers::Layer;
 use crate::app::tracking::{FinishedView, NamedBytes, RiecickyCandidates, VideoDescription};
 use crate::image::Shrink;
@@ -133,7 +133,7 @@ impl TakeOptions {
     /// The options from the page's object; an unknown field or value is an
     /// error that names it.
     pub fn from_js(value: Ts<TakeOptions>) -> Result<TakeOptions, String> {
-        read_take(value.js_value(), &["recording", "camera", "background"])
+        read_take(&value, &["recording", "camera", "background"])
     }
 }
 
@@ -161,19 +161,24 @@ impl FinishedTakeOptions {
     /// The options from the page's object; an unknown field or value is an
     /// error that names it.
     pub fn from_js(value: Ts<FinishedTakeOptions>) -> Result<FinishedTakeOptions, String> {
-        read_take(value.js_value(), &["recording", "camera", "track"])
+        read_take(&value, &["recording", "camera", "track"])
     }
 }
 
 /// A take's options from the page's object: its `files` and its video
 /// looked at first, so that an unknown field in one of them is named where
 /// it is.
-fn read_take<T: DeserializeOwned>(value: JsValue, files: &[&str]) -> Result<T, String> {
+fn read_take<T>(value: &Ts<T>, files: &[&str]) -> Result<T, String>
+where
+    T: DeserializeOwned + Tsify,
+    T::JsType: JsCast,
+{
+    let object = value.js_value();
     for file in files {
-        refuse_unknown_fields::<NamedFile>(&field(&value, file), &format!("the take's {file}"))?;
+        refuse_unknown_fields::<NamedFile>(&field(&object, file), &format!("the take's {file}"))?;
     }
-    refuse_unknown_fields::<VideoFacts>(&field(&value, "video"), "the take's video")?;
-    read(value, "the take")
+    refuse_unknown_fields::<VideoFacts>(&field(&object, "video"), "the take's video")?;
+    read_ts(value, "the take")
 }
 
 /// A point on the floor (x, z, cm: the world's Y is up).
@@ -258,9 +263,13 @@ impl PathWork {
 
     /// The work from the page's object (unknown fields refused).
     pub fn from_js(value: Ts<PathWork>) -> Result<PathRequest, String> {
-        let value = value.js_value();
-        refuse_unknown_fields::<FloorPoint>(&field(&value, "terms_at"), "the path request's terms_at")?;
-        let work: PathWork = read(value, "the path request")?;
+        let object = value.js_value();
+        refuse_unknown_fields::<FloorPoint>(&field(&object, "terms_at"), "the path request's terms_at")?;
+        refuse_unknown_fields_of_each::<FloorPoint>(
+            &field(&object, "candidates"),
+            "the path request's candidates",
+        )?;
+        let work: PathWork = read_ts(&value, "the path request")?;
         let working_scale = Shrink::from_quarters(work.working_scale_quarters).ok_or_else(|| {
             format!(
                 "the path request's working_scale_quarters: {} (4 or more: 4 reads the frame whole)",
@@ -317,7 +326,7 @@ impl FinishedViewFrames {
     /// The view from the page's object; an unknown field, or lists of
     /// other lengths than its frames', an error naming the view.
     pub fn from_js(value: Ts<FinishedViewFrames>) -> Result<FinishedView, String> {
-        let v: FinishedViewFrames = read(value.js_value(), "a view to weigh")?;
+        let v: FinishedViewFrames = read_ts(&value, "a view to weigh")?;
         let n = v.confidence.len();
         if v.floor_cm.len() != 2 * n || v.covariance_cm2.len() != 4 * n {
             return Err(format!(
@@ -370,6 +379,22 @@ pub struct FrameCandidates {
     pub tried: Vec<Candidate>,
     /// The index of the one chosen; `null`: none.
     pub chosen: Option<usize>,
+}
+
+impl FrameCandidates {
+    /// The candidates from the page's object; an unknown field, a
+    /// candidate's or its floor point's too, an error that names it.
+    pub fn from_js(value: &Ts<FrameCandidates>) -> Result<FrameCandidates, String> {
+        let tried = field(&value.js_value(), "tried");
+        refuse_unknown_fields_of_each::<Candidate>(&tried, "the candidates' tried")?;
+        if js_sys::Array::is_array(&tried) {
+            for (i, candidate) in tried.unchecked_ref::<js_sys::Array>().iter().enumerate() {
+                let floor = field(&candidate, "floor");
+                refuse_unknown_fields::<FloorPoint>(&floor, &format!("the candidates' tried[{i}].floor"))?;
+            }
+        }
+        read_ts(value, "the candidates")
+    }
 }
 
 impl From<RiecickyCandidates> for FrameCandidates {
@@ -520,15 +545,10 @@ pub struct BoardStill {
 impl BoardStill {
     /// The inputs from the page's object (unknown fields refused).
     pub fn from_js(value: Ts<BoardStill>) -> Result<BoardStill, String> {
-        let value = value.js_value();
+        let object = value.js_value();
         for file in ["still", "board", "lens"] {
-            refuse_unknown_fields::<NamedFile>(&field(&value, file), &format!("the board still's {file}"))?;
+            refuse_unknown_fields::<NamedFile>(&field(&object, file), &format!("the board still's {file}"))?;
         }
-        read(value, "the board still")
+        read_ts(&value, "the board still")
     }
-}
-
-/// `value[name]`, or `undefined` when `value` is no object.
-fn field(value: &JsValue, name: &str) -> JsValue {
-    js_sys::Reflect::get(value, &JsValue::from_str(name)).unwrap_or_default()
 }

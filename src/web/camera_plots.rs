@@ -13,6 +13,7 @@ use crate::app::plot::camera::{ErrorSeries, PlottedCandidate, candidates_view, f
 use crate::app::theme;
 use crate::web::camera_api::{FloorPoint, FrameCandidates, TruthErrors};
 use crate::web::canvas2d;
+use crate::web::js_object::read_ts;
 
 /// Paints `figure` over the whole of `canvas`.
 fn paint(canvas: &HtmlCanvasElement, figure: &Figure) -> Result<(), JsError> {
@@ -28,7 +29,11 @@ fn paint(canvas: &HtmlCanvasElement, figure: &Figure) -> Result<(), JsError> {
 /// The hips' track so far seen from above, on `canvas`.
 #[wasm_bindgen]
 pub fn paint_top_view(canvas: &HtmlCanvasElement, path: Vec<Ts<FloorPoint>>) -> Result<(), JsError> {
-    let path = path.iter().map(|p| p.to_rust().map(glam::DVec2::from)).collect::<Result<Vec<_>, _>>()?;
+    let path = path
+        .iter()
+        .map(|p| read_ts(p, "a point of the top view's path").map(glam::DVec2::from))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| JsError::new(&e))?;
     paint(canvas, &top_view(canvas.width() as f32, canvas.height() as f32, &path))
 }
 
@@ -44,7 +49,7 @@ pub fn paint_frame_series(
     frame_count: usize,
     shown_frame: usize,
 ) -> Result<(), JsError> {
-    let errors = errors.map(|e| e.to_rust()).transpose()?;
+    let errors = errors.map(|e| read_ts(&e, "the truth errors")).transpose().map_err(|e| JsError::new(&e))?;
     let series = errors.as_ref().map(|e| ErrorSeries { per_frame_cm: &e.per_frame_cm, truth_name });
     let (w, h) = (canvas.width() as f32, canvas.height() as f32);
     paint(canvas, &frame_series(w, h, confidence, series, frame_count, shown_frame))
@@ -57,7 +62,7 @@ pub fn paint_candidates(
     frame: Option<Ts<FrameCandidates>>,
     shown_frame: usize,
 ) -> Result<(), JsError> {
-    let frame = frame.map(|f| f.to_rust()).transpose()?;
+    let frame = frame.map(|f| FrameCandidates::from_js(&f)).transpose().map_err(|e| JsError::new(&e))?;
     let tried: Vec<PlottedCandidate> = frame
         .iter()
         .flat_map(|f| &f.tried)

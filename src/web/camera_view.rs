@@ -12,7 +12,7 @@ use crate::app::frame_layers::{FrameLayers, layer_rgba};
 use crate::camera::{Camera, FloorRectangle, FocalLength, ImageSize};
 use crate::image::pipeline::Features;
 use crate::web::camera_api::{CameraFit, FloorCorners, FrameLayer, LumaPlane, PixelPoint};
-use crate::web::js_object::read;
+use crate::web::js_object::{field, read_ts, refuse_unknown_fields_of_each};
 use crate::web::tracking::js_error;
 
 /// A camera.json, parsed once.
@@ -57,7 +57,9 @@ pub struct PixelLine {
 /// --floor-corners` makes it; the error says what is wrong with the clicks.
 #[wasm_bindgen]
 pub fn calibrate_floor_corners(clicks: Ts<FloorCorners>) -> Result<Ts<CameraFit>, JsError> {
-    let c: FloorCorners = read(clicks.js_value(), "the floor corners").map_err(js_error)?;
+    let corners = field(&clicks.js_value(), "corners");
+    refuse_unknown_fields_of_each::<PixelPoint>(&corners, "the floor corners' corners").map_err(js_error)?;
+    let c: FloorCorners = read_ts(&clicks, "the floor corners").map_err(js_error)?;
     let [a, b, d, e] = c.corners[..] else {
         return Err(JsError::new(&format!("four corners, not {}", c.corners.len())));
     };
@@ -101,7 +103,7 @@ impl FramePainter {
     /// Runs the pipeline on a frame (`label` names it in errors), for
     /// `layer` to paint.
     pub fn set_frame(&mut self, frame: Ts<LumaPlane>, label: &str) -> Result<(), JsError> {
-        let p: LumaPlane = read(frame.js_value(), label).map_err(js_error)?;
+        let p: LumaPlane = read_ts(&frame, label).map_err(js_error)?;
         self.features = Some(self.layers.features(&p.luma, p.stride, p.full_range, label).map_err(js_error)?);
         Ok(())
     }
@@ -109,7 +111,7 @@ impl FramePainter {
     /// A stage of the last frame as RGBA pixels (for an `ImageData` of the
     /// frame's size).
     pub fn layer(&self, layer: Ts<FrameLayer>) -> Result<Clamped<Vec<u8>>, JsError> {
-        let layer = layer.to_rust()?;
+        let layer = read_ts(&layer, "the frame layer").map_err(js_error)?;
         let features = self.features.as_ref().ok_or_else(|| JsError::new("no frame given yet"))?;
         Ok(Clamped(layer_rgba(features, layer.into())))
     }

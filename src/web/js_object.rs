@@ -1,9 +1,13 @@
 //! Reading the page's plain objects into typed values: every module's
 //! boundary (the player's [`api`](super::api), the camera and board
 //! modules' [`camera_api`](super::camera_api)) reads through here, so that
-//! an unknown field is refused the same way everywhere, naming it.
+//! an unknown field is refused the same way everywhere, naming it: a typed
+//! argument (`Ts<T>`) through [`read_ts`], a nested object's through
+//! [`refuse_unknown_fields`] and [`refuse_unknown_fields_of_each`] on its
+//! [`field`] before the whole is read.
 
 use serde::de::{self, DeserializeOwned, Deserializer, Visitor};
+use tsify::{Ts, Tsify};
 use wasm_bindgen::{JsCast, JsValue};
 
 /// A `T` from the page's object `value` (`what` names it in errors); an
@@ -12,6 +16,36 @@ use wasm_bindgen::{JsCast, JsValue};
 pub fn read<T: DeserializeOwned>(value: JsValue, what: &str) -> Result<T, String> {
     refuse_unknown_fields::<T>(&value, what)?;
     serde_wasm_bindgen::from_value(value).map_err(|e| format!("{what}: {e}"))
+}
+
+/// A `T` from the page's typed object `value`, as [`read`] reads it: the
+/// one way a `Ts<T>` argument is read (tsify's own `to_rust` would let an
+/// unknown field pass).
+pub fn read_ts<T>(value: &Ts<T>, what: &str) -> Result<T, String>
+where
+    T: DeserializeOwned + Tsify,
+    T::JsType: JsCast,
+{
+    read(value.js_value(), what)
+}
+
+/// [`refuse_unknown_fields`] on each object of the list `value` (`what`
+/// names the list; an item is named by its index). Anything but a list is
+/// left to serde to refuse.
+pub fn refuse_unknown_fields_of_each<T: DeserializeOwned>(value: &JsValue, what: &str) -> Result<(), String> {
+    if !js_sys::Array::is_array(value) {
+        return Ok(());
+    }
+    for (i, item) in value.unchecked_ref::<js_sys::Array>().iter().enumerate() {
+        refuse_unknown_fields::<T>(&item, &format!("{what}[{i}]"))?;
+    }
+    Ok(())
+}
+
+/// `value[name]`, or `undefined` when `value` is no object: a nested
+/// object, for its unknown fields to be refused where it is.
+pub fn field(value: &JsValue, name: &str) -> JsValue {
+    js_sys::Reflect::get(value, &JsValue::from_str(name)).unwrap_or_default()
 }
 
 /// An error naming a key of the object `value` that `T` has no field for.

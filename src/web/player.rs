@@ -14,7 +14,7 @@ use crate::io::recording::{FeetChoice, Recording};
 use crate::io::table::Accelerations;
 use crate::track::take::body_shape_of;
 use crate::web::api::{Export, FootNames, Ghost, Info, Options, PlotPanel, SoleDepth};
-use crate::web::js_object::read;
+use crate::web::js_object::read_ts;
 use crate::web::scene::{CameraTake, Scene};
 use crate::web::take_series::TakeSeries;
 use crate::web::{api, canvas2d};
@@ -200,7 +200,7 @@ impl Player {
         let point = |p: &[f64]| glam::DVec3::new(p[0], p[1], p[2]);
         let hips_cm: Vec<glam::DVec3> = camera_hips_cm.chunks_exact(3).map(point).collect();
         let series: TakeSeries = match series {
-            Some(series) => read(series.js_value(), "the camera take's series").map_err(js_error)?,
+            Some(series) => read_ts(&series, "the camera take's series").map_err(js_error)?,
             None => TakeSeries::default(),
         };
         self.open_session_mut()?.set_camera_take(series.with_path(hips_cm.clone())).map_err(js_error)?;
@@ -459,7 +459,7 @@ impl Player {
 
     /// How the original skeleton is shown; an unknown mode is an error.
     pub fn set_ghost(&mut self, mode: Ts<Ghost>) -> Result<(), JsError> {
-        self.scene.ghost = mode.to_rust()?;
+        self.scene.ghost = read_ts(&mode, "the ghost mode").map_err(js_error)?;
         self.scene_dirty = true;
         Ok(())
     }

@@ -15,7 +15,7 @@ use crate::web::camera_api::{
     FinishedTakeOptions, FinishedViewFrames, FrameCandidates, FrameProgress, NamedFile, OffsetFound,
     PathWork, TakeFiles, TakeOptions, TruthErrors,
 };
-use crate::web::js_object::read;
+use crate::web::js_object::read_ts;
 use crate::web::take_series::TakeSeries;
 
 /// Points as the page takes them: x, y, z (cm) point after point.
@@ -172,7 +172,7 @@ impl CameraJob {
     /// The finished track against the true hips of a CSV (the shared
     /// scenes' `NAME.truth.csv`). The error names the file.
     pub fn against_truth(&self, truth: Ts<NamedFile>) -> Result<Ts<TruthErrors>, JsError> {
-        let truth: NamedFile = read(truth.js_value(), "the truth").map_err(js_error)?;
+        let truth: NamedFile = read_ts(&truth, "the truth").map_err(js_error)?;
         let (per_frame_cm, figures) = self.job.against_truth(truth.named_bytes()).map_err(js_error)?;
         let errors = TruthErrors {
             mean_cm: figures.mean_cm,

@@ -11,7 +11,7 @@ use crate::image::background::{MEDIAN_FRAMES, median_background, sample_indices}
 use crate::io::container::{EncodedVideo, demux, nominal_fps};
 use crate::io::image_file::grey_to_png;
 use crate::web::camera_api::{EncodedFrame, LumaPlane, VideoFacts};
-use crate::web::js_object::read;
+use crate::web::js_object::read_ts;
 use crate::web::tracking::js_error;
 
 /// The rate a video was recorded at, from one measured off its presented
@@ -85,7 +85,7 @@ pub fn median_background_frames(frame_count: usize) -> Vec<u32> {
 
 /// A luma plane made grey as the tracker makes it; `label` names it in errors.
 fn grey_of(video: &VideoFacts, plane: Ts<LumaPlane>, label: &str) -> Result<GreyImage, JsError> {
-    let p: LumaPlane = read(plane.js_value(), label).map_err(js_error)?;
+    let p: LumaPlane = read_ts(&plane, label).map_err(js_error)?;
     GreyImage::from_luma(video.width_px, video.height_px, &p.luma, p.stride, p.full_range, label)
         .map_err(js_error)
 }
@@ -95,7 +95,7 @@ fn grey_of(video: &VideoFacts, plane: Ts<LumaPlane>, label: &str) -> Result<Grey
 /// against. The error names the video.
 #[wasm_bindgen]
 pub fn median_background_png(video: Ts<VideoFacts>, frames: Vec<Ts<LumaPlane>>) -> Result<Vec<u8>, JsError> {
-    let video: VideoFacts = read(video.js_value(), "the video").map_err(js_error)?;
+    let video: VideoFacts = read_ts(&video, "the video").map_err(js_error)?;
     let greys = frames
         .into_iter()
         .enumerate()
@@ -109,7 +109,7 @@ pub fn median_background_png(video: Ts<VideoFacts>, frames: Vec<Ts<LumaPlane>>) 
 /// frame to find the board in, as a still would be. The error names `label`.
 #[wasm_bindgen]
 pub fn frame_png(video: Ts<VideoFacts>, frame: Ts<LumaPlane>, label: &str) -> Result<Vec<u8>, JsError> {
-    let video: VideoFacts = read(video.js_value(), "the video").map_err(js_error)?;
+    let video: VideoFacts = read_ts(&video, "the video").map_err(js_error)?;
     let grey = grey_of(&video, frame, label)?;
     grey_to_png(&grey, label).map_err(js_error)
 }
