@@ -16,6 +16,9 @@ use wasm_bindgen::JsCast;
 use super::js_object::{field, read_ts, refuse_unknown_fields, refuse_unknown_fields_of_each};
 use crate::app::frame_layers::Layer;
 use crate::app::tracking::{FinishedView, NamedBytes, RiecickyCandidates, VideoDescription};
+/// The page's floor point and a frame's progress are the app's own
+/// (serialised there, typed for the page when built for it).
+pub use crate::app::tracking::{FloorPoint, FrameProgress};
 use crate::image::Shrink;
 use crate::track::offset::OffsetEstimate;
 use crate::track::path::PathRequest;
@@ -24,7 +27,10 @@ use crate::track::tracker::TrackMethod;
 use crate::track::views::{Sighting, ViewSightings};
 use glam::{DMat2, DVec2};
 
-/// A file the page read: its name (errors name it) and its bytes.
+/// A file the page read: its name (errors name it) and its bytes. Two
+/// types with [`NamedBytes`], not one: this one owns the bytes copied out
+/// of the page's `Uint8Array`, the app's borrows them, so that the CLI and
+/// the tests hand the app the bytes they hold without a copy.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, Tsify)]
 #[serde(deny_unknown_fields)]
 pub struct NamedFile {
@@ -87,7 +93,10 @@ mod track_method_by_name {
     }
 }
 
-/// The video as the page (or the worker's demuxer) describes it.
+/// The video as the page (or the worker's demuxer) describes it. The
+/// app's [`VideoDescription`] is the same but for the name, which the app
+/// takes apart (`Copy`, and the CLI's and the tests' name their video
+/// from its file); one `From` makes it.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, Tsify)]
 #[serde(deny_unknown_fields)]
 pub struct VideoFacts {
@@ -181,26 +190,6 @@ where
     read_ts(value, "the take")
 }
 
-/// A point on the floor (x, z, cm: the world's Y is up).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, Tsify)]
-#[serde(deny_unknown_fields)]
-pub struct FloorPoint {
-    pub x_cm: f64,
-    pub z_cm: f64,
-}
-
-impl From<DVec2> for FloorPoint {
-    fn from(p: DVec2) -> FloorPoint {
-        FloorPoint { x_cm: p.x, z_cm: p.y }
-    }
-}
-
-impl From<FloorPoint> for DVec2 {
-    fn from(p: FloorPoint) -> DVec2 {
-        DVec2::new(p.x_cm, p.z_cm)
-    }
-}
-
 /// A point in an image (px; pixel centres at whole numbers).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize, Tsify)]
 #[serde(deny_unknown_fields)]
@@ -212,23 +201,6 @@ pub struct PixelPoint {
 impl From<DVec2> for PixelPoint {
     fn from(p: DVec2) -> PixelPoint {
         PixelPoint { x_px: p.x, y_px: p.y }
-    }
-}
-
-/// Where a frame put the actor, as the tracker reports it while it runs.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, Tsify)]
-pub struct FrameProgress {
-    /// The frame's index in the video.
-    pub frame: usize,
-    /// The filter's position so far (smoothed only at the end).
-    pub floor: FloorPoint,
-    /// How well the camera saw the body, 0 to 1.
-    pub confidence: f64,
-}
-
-impl From<&crate::app::tracking::FrameProgress> for FrameProgress {
-    fn from(p: &crate::app::tracking::FrameProgress) -> FrameProgress {
-        FrameProgress { frame: p.frame, floor: p.floor_cm.into(), confidence: p.confidence }
     }
 }
 
@@ -371,7 +343,9 @@ pub struct Candidate {
     pub energy_px: f64,
 }
 
-/// The paper's search in one video frame (none for `fused`).
+/// The paper's search in one video frame (none for `fused`): the page's
+/// view of the app's [`RiecickyCandidates`], whose tried positions are
+/// `DVec2`s with their energies in pairs; one `From` makes it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Tsify)]
 #[tsify(missing_as_null)]
 pub struct FrameCandidates {

@@ -85,7 +85,7 @@ impl CameraJob {
         full_range: bool,
     ) -> Result<Ts<FrameProgress>, JsError> {
         let progress = self.job.push_luma(luma, stride, full_range).map_err(js_error)?;
-        Ok(FrameProgress::from(&progress).into_ts()?)
+        Ok(progress.into_ts()?)
     }
 
     /// Leaves the path search's energies to a second job of the same take,
@@ -247,7 +247,7 @@ impl FinishedTakeView {
     /// Per video frame, where the track put the hips and how well the
     /// camera saw the body, as the tracker reported them while it ran.
     pub fn path(&self) -> Result<Vec<Ts<FrameProgress>>, JsError> {
-        Ok(self.take.path.iter().map(|p| FrameProgress::from(p).into_ts()).collect::<Result<_, _>>()?)
+        Ok(self.take.path.iter().map(|p| p.into_ts()).collect::<Result<_, _>>()?)
     }
 
     /// The body's outline over each video frame where the track put it.
