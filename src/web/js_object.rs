@@ -32,6 +32,7 @@ where
 /// [`refuse_unknown_fields`] on each object of the list `value` (`what`
 /// names the list; an item is named by its index). Anything but a list is
 /// left to serde to refuse.
+#[cfg(any(feature = "web-camera", feature = "web-board"))]
 pub fn refuse_unknown_fields_of_each<T: DeserializeOwned>(value: &JsValue, what: &str) -> Result<(), String> {
     if !js_sys::Array::is_array(value) {
         return Ok(());
@@ -44,6 +45,7 @@ pub fn refuse_unknown_fields_of_each<T: DeserializeOwned>(value: &JsValue, what:
 
 /// `value[name]`, or `undefined` when `value` is no object: a nested
 /// object, for its unknown fields to be refused where it is.
+#[cfg(any(feature = "web-camera", feature = "web-board"))]
 pub fn field(value: &JsValue, name: &str) -> JsValue {
     js_sys::Reflect::get(value, &JsValue::from_str(name)).unwrap_or_default()
 }
