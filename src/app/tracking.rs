@@ -60,13 +60,19 @@ impl<'a> NamedBytes<'a> {
 /// camera module hands it to the page as it is (its `floor` a
 /// [`FloorPoint`]).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[cfg_attr(all(target_arch = "wasm32", feature = "web-camera"), derive(tsify::Tsify))]
+#[cfg_attr(
+    all(target_arch = "wasm32", any(feature = "web-camera", feature = "web-board")),
+    derive(tsify::Tsify)
+)]
 pub struct FrameProgress {
     /// The frame's index in the video.
     pub frame: usize,
     /// The filter's position so far (x, z, cm; smoothed only at the end).
     #[serde(rename = "floor", with = "floor_point")]
-    #[cfg_attr(all(target_arch = "wasm32", feature = "web-camera"), tsify(type = "FloorPoint"))]
+    #[cfg_attr(
+        all(target_arch = "wasm32", any(feature = "web-camera", feature = "web-board")),
+        tsify(type = "FloorPoint")
+    )]
     pub floor_cm: DVec2,
     /// How well the camera saw the body, 0 to 1.
     pub confidence: f64,
