@@ -172,17 +172,28 @@ impl Features {
     /// [`Features::from_bytes`] gives back the same bits.
     pub fn to_bytes(&self) -> Vec<u8> {
         let count = self.difference.pixels.len();
-        let mut bytes = Vec::with_capacity(FEATURES_HEADER_BYTES + FEATURES_BYTES_PER_PIXEL * count);
-        bytes.extend_from_slice(&self.difference.width_px.to_le_bytes());
-        bytes.extend_from_slice(&self.difference.height_px.to_le_bytes());
-        bytes.extend_from_slice(&self.noise_sd.to_le_bytes());
-        bytes.extend_from_slice(&[self.threshold_level, 0, 0, 0]);
-        bytes.extend_from_slice(&self.difference.pixels);
-        for mask in [&self.foreground, &self.edges] {
-            bytes.extend(mask.on.iter().map(|&on| u8::from(on)));
+        // Sized first and filled plane by plane: each loop a plain copy
+        // (a frame's features are megabytes, handed over every frame).
+        let mut bytes = vec![0u8; FEATURES_HEADER_BYTES + FEATURES_BYTES_PER_PIXEL * count];
+        let (header, planes) = bytes.split_at_mut(FEATURES_HEADER_BYTES);
+        header[0..4].copy_from_slice(&self.difference.width_px.to_le_bytes());
+        header[4..8].copy_from_slice(&self.difference.height_px.to_le_bytes());
+        header[8..12].copy_from_slice(&self.noise_sd.to_le_bytes());
+        header[12] = self.threshold_level;
+        let (difference, planes) = planes.split_at_mut(count);
+        difference.copy_from_slice(&self.difference.pixels);
+        let (foreground, planes) = planes.split_at_mut(count);
+        let (edges, distances) = planes.split_at_mut(count);
+        for (to, mask) in [(foreground, &self.foreground), (edges, &self.edges)] {
+            for (byte, &on) in to.iter_mut().zip(&mask.on) {
+                *byte = u8::from(on);
+            }
         }
-        for distances in [&self.edge_distance, &self.outside_distance] {
-            bytes.extend(distances.distance_px.iter().flat_map(|d| d.to_le_bytes()));
+        let (edge_distance, outside_distance) = distances.split_at_mut(4 * count);
+        for (to, from) in [(edge_distance, &self.edge_distance), (outside_distance, &self.outside_distance)] {
+            for (word, d) in to.chunks_exact_mut(4).zip(&from.distance_px) {
+                word.copy_from_slice(&d.to_le_bytes());
+            }
         }
         bytes
     }

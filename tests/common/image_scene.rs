@@ -9,7 +9,7 @@ use embusen::image::GreyImage;
 use embusen::image::background::{difference, foreground};
 use embusen::image::canny::{CannyParams, canny};
 use embusen::image::distance::distance_to;
-use embusen::image::pipeline::{PipelineParams, canny_input, clean_mask, features};
+use embusen::image::pipeline::{Features, PipelineParams, canny_input, clean_mask, features};
 use embusen::synth::rng::XorShift64;
 
 /// A room and the same room with an actor in it, made in code: a plank
@@ -92,6 +92,8 @@ pub fn stage_times(
         high_step: level as f32,
     };
     let edges = canny(&input, &canny_params);
+    let made = features(frame, background, &params, "frame").unwrap();
+    let bytes = made.to_bytes();
     vec![
         ("difference", batch_ms(now_ms, || drop(black_box(difference(frame, background, "frame").unwrap())))),
         ("noise + threshold", batch_ms(now_ms, || _ = black_box(params.threshold.level(black_box(&d))))),
@@ -103,6 +105,12 @@ pub fn stage_times(
         (
             "whole pipeline",
             batch_ms(now_ms, || drop(black_box(features(frame, background, &params, "frame").unwrap()))),
+        ),
+        // What the page's tracker hands its path scorer, and what that reads.
+        ("features → bytes", batch_ms(now_ms, || drop(black_box(made.to_bytes())))),
+        (
+            "bytes → features",
+            batch_ms(now_ms, || drop(black_box(Features::from_bytes(&bytes, "frame").unwrap()))),
         ),
     ]
 }
