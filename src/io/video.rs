@@ -164,11 +164,38 @@ impl Ffmpeg {
         Ok((VideoInfo { width_px, height_px, fps, frame_count }, streamed))
     }
 
-    /// Starts decoding `path` into grey frames (see the module's note).
+    /// Starts decoding `path` into grey frames (see the module's note):
+    /// [`Ffmpeg::probe_file`] and one pass of [`VideoFile::frames`].
     pub fn open(&self, path: &Path) -> Result<VideoFrames, Error> {
+        self.probe_file(path)?.frames()
+    }
+
+    /// `path` probed once, to be decoded as many times as its frames are
+    /// read from the first ([`VideoFile::frames`]).
+    pub fn probe_file(&self, path: &Path) -> Result<VideoFile, Error> {
         let (info, streamed) = self.probe_stream(path)?;
+        Ok(VideoFile { info, streamed, ffmpeg: self.clone(), path: path.to_path_buf() })
+    }
+}
+
+/// A video file as `ffprobe` found it: its size, rate and length, and how
+/// ffmpeg is to stream its frames. Probing counts every packet, which
+/// reads the whole file; this is done once, however often it is decoded.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VideoFile {
+    pub info: VideoInfo,
+    streamed: Streamed,
+    ffmpeg: Ffmpeg,
+    path: PathBuf,
+}
+
+impl VideoFile {
+    /// Starts decoding the video from its first frame, in a new ffmpeg:
+    /// one pass over its frames, held one at a time.
+    pub fn frames(&self) -> Result<VideoFrames, Error> {
+        let (info, streamed, path) = (self.info, self.streamed, self.path.as_path());
         let file = path.display().to_string();
-        let mut command = Command::new(&self.ffmpeg);
+        let mut command = Command::new(&self.ffmpeg.ffmpeg);
         command.args(["-nostdin", "-v", "error", "-i"]).arg(path).args([
             "-map",
             "0:v:0",
@@ -184,7 +211,7 @@ impl Ffmpeg {
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
-            .map_err(|e| start_error(&file, &self.ffmpeg, e))?;
+            .map_err(|e| start_error(&file, &self.ffmpeg.ffmpeg, e))?;
         let (Some(stdout), Some(mut stderr)) = (child.stdout.take(), child.stderr.take()) else {
             let _ = child.kill();
             let _ = child.wait();
