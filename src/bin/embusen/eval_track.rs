@@ -19,8 +19,7 @@ use embusen::track::views::{ViewSightings, fuse_views};
 use glam::DVec2;
 
 use crate::track::{
-    VIDEO_EXTENSIONS, background, camera_from_board, method_parser, open_job, read_camera, read_recording,
-    read_text, run_job,
+    VIDEO_EXTENSIONS, Video, camera_from_board, method_parser, read_camera, read_recording, read_text,
 };
 
 #[derive(clap::Args)]
@@ -125,8 +124,8 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
             ms_per_frame: 0.0,
             within_uncertainty: f64::NAN,
         });
-        let room =
-            background(background_still.is_file().then_some(background_still.as_path()), &video, None)?;
+        let video = Video::open(&video, None)?;
+        let room = video.background(background_still.is_file().then_some(background_still.as_path()))?;
         let wanted =
             |m: &TrackMethod| args.methods.is_empty() || args.methods.iter().any(|w| w.name() == m.name());
         // The first view's fused track, to weigh a second view's against.
@@ -135,8 +134,8 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
             [TrackMethod::Riecicky(RiecickyParams::default()), TrackMethod::Fused(FusedParams::default())];
         for method in methods.into_iter().filter(wanted) {
             let inputs = TakeInputs { recording: recording.clone(), camera, background: room.clone() };
-            let (mut job, mut frames) = open_job(inputs, &video, method)?;
-            let (_, ms_per_frame, _) = run_job(&mut job, &mut frames, false)?;
+            let mut job = video.job(inputs, method, 0.0)?;
+            let (_, ms_per_frame, _) = video.track(&mut job, false)?;
             let Some(track) = job.track() else { continue };
             let row = scene_row(&name, track.method().name(), track, &truth_floor, ms_per_frame);
             print_row(&row);
@@ -171,7 +170,8 @@ fn eval_track(args: &EvalTrackArgs) -> Result<(), Error> {
         if args.camera_oracle {
             let method = TrackMethod::Fused(FusedParams::default());
             let inputs = TakeInputs { recording: recording.clone(), camera, background: room.clone() };
-            let (mut job, mut frames) = open_job(inputs, &video, method)?;
+            let mut job = video.job(inputs, method, 0.0)?;
+            let mut frames = video.frames()?;
             let started = Instant::now();
             let mut floor = Vec::new();
             let mut i = 0;
@@ -276,16 +276,14 @@ fn track_second_view(
     let true_camera = read_camera(&path(".camera.json"))?;
     let camera =
         if board_camera { camera_from_board(&path(".board.png"), Some(&true_camera))? } else { true_camera };
-    let video = scene_video(dir, name)?;
+    let video = Video::open(&scene_video(dir, name)?, None)?;
     let still = path(".background.png");
-    let room = background(still.is_file().then_some(still.as_path()), &video, None)?;
+    let room = video.background(still.is_file().then_some(still.as_path()))?;
     let inputs = TakeInputs { recording: recording.clone(), camera, background: room };
-    let (mut job, mut frames) = open_job(inputs, &video, TrackMethod::Fused(FusedParams::default()))?;
-    let (_, ms_per_frame, _) = run_job(&mut job, &mut frames, false)?;
-    let track = job
-        .track()
-        .cloned()
-        .ok_or_else(|| Error::whole(&video.display().to_string(), "the second view was not tracked"))?;
+    let mut job = video.job(inputs, TrackMethod::Fused(FusedParams::default()), 0.0)?;
+    let (_, ms_per_frame, _) = video.track(&mut job, false)?;
+    let track =
+        job.track().cloned().ok_or_else(|| Error::whole(video.name(), "the second view was not tracked"))?;
     Ok((track, job.timing(), ms_per_frame))
 }
 

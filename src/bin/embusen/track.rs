@@ -15,7 +15,7 @@ use embusen::image::background::MEDIAN_FRAMES;
 use embusen::image::pipeline::Features;
 use embusen::io::image_file::{ImageSequence, open_png_grey};
 use embusen::io::recording::Recording;
-use embusen::io::video::{Ffmpeg, VideoFrames, sample_frames};
+use embusen::io::video::{Ffmpeg, VideoFile, VideoFrames, sample_frames};
 use embusen::track::path::PathRequest;
 use embusen::track::path_scorer::PathScorer;
 use embusen::track::take::TakeExport;
@@ -77,55 +77,122 @@ pub fn method_parser() -> impl clap::builder::TypedValueParser<Value = TrackMeth
         .try_map(|name| TrackMethod::named(&name).ok_or_else(|| format!("no tracker is named {name}")))
 }
 
-/// Frames from a video or a folder of PNGs.
-pub(crate) enum Frames {
-    Video(VideoFrames),
-    Sequence { sequence: ImageSequence, next: usize },
+/// A take's video, opened once: a file ffmpeg reads (probed once for its
+/// size, rate and length) or a folder of PNG frames at `--fps`. What a
+/// command reads of a take's frames it reads here, in passes
+/// ([`Video::frames`]): each from the first frame, decoding anew, holding
+/// one frame at a time, so a long 1080×1920 take never sits in memory.
+///
+/// The passes a take may need, each one decode:
+/// - tracking ([`Video::track`]), always;
+/// - the median background ([`Video::background`]), before it, when there
+///   is no still of the empty room: the job needs its background before
+///   its first frame, and the median's frames are spread over the whole
+///   take, the last frame among them; the frames in between cannot wait
+///   for it without holding the whole take;
+/// - tracking again at an estimated offset (`--estimate-offset`): the
+///   offset is known only once every frame has been tracked, and the
+///   frames are gone by then, for the same reason.
+pub(crate) struct Video {
+    source: Source,
+    name: String,
+    description: VideoDescription,
 }
 
-impl Frames {
-    fn open(path: &Path, fps: Option<f64>) -> Result<Frames, Error> {
-        if path.is_dir() {
-            let fps = fps.ok_or_else(|| {
-                Error::whole(&path.display().to_string(), "a folder of frames needs its rate: give --fps")
-            })?;
-            return Ok(Frames::Sequence { sequence: ImageSequence::open(path, fps)?, next: 0 });
+/// Where a video's frames come from.
+enum Source {
+    File(VideoFile),
+    Folder(ImageSequence),
+}
+
+impl Video {
+    /// The video at `path`, or the folder of frames at `fps`; an error
+    /// naming it when it cannot be read or has no frames.
+    pub(crate) fn open(path: &Path, fps: Option<f64>) -> Result<Video, Error> {
+        let name = path.display().to_string();
+        let source = if path.is_dir() {
+            let fps =
+                fps.ok_or_else(|| Error::whole(&name, "a folder of frames needs its rate: give --fps"))?;
+            Source::Folder(ImageSequence::open(path, fps)?)
+        } else {
+            Source::File(Ffmpeg::default().probe_file(path)?)
+        };
+        // The frames' size: as ffprobe reports it, or the first PNG's.
+        let (width_px, height_px, fps, frame_count) = match &source {
+            Source::File(file) => {
+                (file.info.width_px, file.info.height_px, file.info.fps, file.info.frame_count)
+            }
+            Source::Folder(sequence) => {
+                let first = sequence.frame(0)?;
+                (first.width_px, first.height_px, sequence.fps, sequence.frame_count())
+            }
+        };
+        if frame_count == 0 {
+            return Err(Error::whole(&name, "has no frames"));
         }
-        Ok(Frames::Video(Ffmpeg::default().open(path)?))
+        let description = VideoDescription { width_px, height_px, fps, frame_count };
+        Ok(Video { source, name, description })
     }
 
-    fn fps(&self) -> f64 {
-        match self {
-            Frames::Video(v) => v.info.fps,
-            Frames::Sequence { sequence, .. } => sequence.fps,
-        }
+    /// The video's name in what is said of it.
+    pub(crate) fn name(&self) -> &str {
+        &self.name
     }
 
-    /// The frames' size (px): as ffprobe reports it, or the first PNG's.
-    fn size_px(&self) -> Result<(u32, u32), Error> {
-        match self {
-            Frames::Video(v) => Ok((v.info.width_px, v.info.height_px)),
-            Frames::Sequence { sequence, .. } => sequence.frame(0).map(|f| (f.width_px, f.height_px)),
-        }
+    /// A pass over the frames, from the first.
+    pub(crate) fn frames(&self) -> Result<Frames<'_>, Error> {
+        Ok(match &self.source {
+            Source::File(file) => Frames::File(file.frames()?),
+            Source::Folder(sequence) => Frames::Folder { sequence, next: 0 },
+        })
     }
 
+    /// The background: the still when given (no pass), else the median of
+    /// [`MEDIAN_FRAMES`] frames spread over the video, in a pass of its
+    /// own (see [`Video`]) that keeps only those.
+    pub(crate) fn background(&self, still: Option<&Path>) -> Result<Background, Error> {
+        if let Some(still) = still {
+            return open_png_grey(still).map(Background::still);
+        }
+        let sampled = sample_frames(self.frames()?, self.description.frame_count, MEDIAN_FRAMES)?;
+        Background::median_of(&sampled, &self.name)
+    }
+
+    /// The tracking job of this video, the BVH `offset_s` ahead of it.
+    pub(crate) fn job(
+        &self,
+        inputs: TakeInputs,
+        method: TrackMethod,
+        offset_s: f64,
+    ) -> Result<TrackingJob, Error> {
+        TrackingJob::new(inputs, &self.name, self.description, method, offset_s)
+    }
+
+    /// A tracking pass: every frame fed to `job`, and the job finished
+    /// ([`run_job`]); a progress bar with `progress`.
+    pub(crate) fn track(&self, job: &mut TrackingJob, progress: bool) -> Result<JobRun, Error> {
+        run_job(job, &mut self.frames()?, progress)
+    }
+}
+
+/// One pass over a [`Video`]'s frames.
+pub(crate) enum Frames<'a> {
+    File(VideoFrames),
+    Folder { sequence: &'a ImageSequence, next: usize },
+}
+
+impl Frames<'_> {
     fn frame_count(&self) -> usize {
         match self {
-            Frames::Video(v) => v.info.frame_count,
-            Frames::Sequence { sequence, .. } => sequence.frame_count(),
+            Frames::File(v) => v.info.frame_count,
+            Frames::Folder { sequence, .. } => sequence.frame_count(),
         }
-    }
-
-    /// The frames as the tracking job wants them described.
-    fn description(&self) -> Result<VideoDescription, Error> {
-        let (width_px, height_px) = self.size_px()?;
-        Ok(VideoDescription { width_px, height_px, fps: self.fps(), frame_count: self.frame_count() })
     }
 
     pub(crate) fn next_frame(&mut self) -> Option<Result<GreyImage, Error>> {
         match self {
-            Frames::Video(v) => v.next_frame(),
-            Frames::Sequence { sequence, next } => (*next < sequence.frame_count()).then(|| {
+            Frames::File(v) => v.next_frame(),
+            Frames::Folder { sequence, next } => (*next < sequence.frame_count()).then(|| {
                 *next += 1;
                 sequence.frame(*next - 1)
             }),
@@ -133,7 +200,7 @@ impl Frames {
     }
 }
 
-impl Iterator for Frames {
+impl Iterator for Frames<'_> {
     type Item = Result<GreyImage, Error>;
     fn next(&mut self) -> Option<Self::Item> {
         self.next_frame()
@@ -170,18 +237,6 @@ pub(crate) fn camera_from_board(still: &Path, _lens: Option<&Camera>) -> Result<
     ))
 }
 
-/// The background: the still when given, else the median of 31 frames
-/// spread over the video (read once more from the start).
-pub(crate) fn background(still: Option<&Path>, video: &Path, fps: Option<f64>) -> Result<Background, Error> {
-    if let Some(still) = still {
-        return open_png_grey(still).map(Background::still);
-    }
-    let frames = Frames::open(video, fps)?;
-    let count = frames.frame_count();
-    let sampled = sample_frames(frames, count, MEDIAN_FRAMES)?;
-    Background::median_of(&sampled, &video.display().to_string())
-}
-
 /// What a tracking job wrote, the milliseconds per frame the tracking took
 /// (not counting the decoding), and the warnings the tracking added.
 pub(crate) type JobRun = (TakeExport, f64, Vec<String>);
@@ -195,7 +250,7 @@ const FRAMES_AHEAD_OF_SCORER: usize = 4;
 /// Feeds `frames` to `job` and finishes it. The fused tracker's path
 /// energies are scored on a second thread, from the same frames, as the
 /// page's second worker scores them: the same bits, the two cores at work.
-pub(crate) fn run_job(job: &mut TrackingJob, frames: &mut Frames, progress: bool) -> Result<JobRun, Error> {
+fn run_job(job: &mut TrackingJob, frames: &mut Frames, progress: bool) -> Result<JobRun, Error> {
     let count = frames.frame_count();
     let bar =
         if progress { indicatif::ProgressBar::new(count as u64) } else { indicatif::ProgressBar::hidden() };
@@ -271,19 +326,6 @@ fn track_beside_scorer(
         scored.into_iter().try_for_each(|energies| hand_back(job, energies))?;
         Ok(busy_s + started.elapsed().as_secs_f64())
     })
-}
-
-/// The tracking job of a video file, its size and rate as ffprobe says.
-pub(crate) fn open_job(
-    inputs: TakeInputs,
-    video: &Path,
-    method: TrackMethod,
-) -> Result<(TrackingJob, Frames), Error> {
-    let frames = Frames::open(video, None)?;
-    let description = frames.description()?;
-    let name = video.display().to_string();
-    let job = TrackingJob::new(inputs, &name, description, method, 0.0)?;
-    Ok((job, frames))
 }
 
 /// The endings of the video files a folder of takes or scenes is searched
@@ -472,22 +514,17 @@ fn track_view(
         }
         (None, None) => return Err(Error::whole("embusen track", "give --camera or --board")),
     };
-    let mut frames = Frames::open(view.video, args.fps)?;
-    let video_name = view.video.display().to_string();
-    if frames.frame_count() == 0 {
-        return Err(Error::whole(&video_name, "has no frames"));
-    }
-    let video = frames.description()?;
-    let background = background(view.background, view.video, args.fps)?;
+    let video = Video::open(view.video, args.fps)?;
+    let background = video.background(view.background)?;
     let inputs = TakeInputs { recording: recording.clone(), camera, background };
-    let mut job = TrackingJob::new(inputs, &video_name, video, args.method, view.offset_s)?;
+    let mut job = video.job(inputs, args.method, view.offset_s)?;
     for w in job.warnings() {
         eprintln!("warning: {said}{w}");
     }
     if args.estimate_offset {
         job.keep_offset_samples();
     }
-    let (mut export, mut ms_per_frame, mut warnings) = run_job(&mut job, &mut frames, progress)?;
+    let (mut export, mut ms_per_frame, mut warnings) = video.track(&mut job, progress)?;
     if args.estimate_offset {
         match job.estimate_offset()? {
             Some(estimate) => {
@@ -497,8 +534,7 @@ fn track_view(
                 );
                 if let Some(again) = job.retrack_at(&estimate)? {
                     job = again;
-                    let mut frames = Frames::open(view.video, args.fps)?;
-                    (export, ms_per_frame, warnings) = run_job(&mut job, &mut frames, progress)?;
+                    (export, ms_per_frame, warnings) = video.track(&mut job, progress)?;
                 }
             }
             None => {
