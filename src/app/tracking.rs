@@ -119,12 +119,40 @@ mod floor_point {
     }
 }
 
-/// Riečický et al.'s search in one video frame.
-#[derive(Clone, Debug, PartialEq)]
+/// One of Riečický et al.'s candidates in a frame, as the job reports it
+/// and the camera module hands it to the page (its `floor` a
+/// [`FloorPoint`]); the plot draws it too. The tracker keeps the pairs of
+/// its search (`track::riecicky`).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(
+    all(target_arch = "wasm32", any(feature = "web-camera", feature = "web-board")),
+    derive(tsify::Tsify)
+)]
+pub struct Candidate {
+    /// Where it lies (x, z, cm).
+    #[serde(rename = "floor", with = "floor_point")]
+    #[cfg_attr(
+        all(target_arch = "wasm32", any(feature = "web-camera", feature = "web-board")),
+        tsify(type = "FloorPoint")
+    )]
+    pub floor_cm: DVec2,
+    /// Its energy (px; not finite where the body could not be placed).
+    pub energy_px: f64,
+}
+
+/// Riečický et al.'s search in one video frame (none for `fused`), as the
+/// camera module hands it to the page: there it is a `FrameCandidates`, the
+/// name the page has always read it by.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(
+    all(target_arch = "wasm32", any(feature = "web-camera", feature = "web-board")),
+    derive(tsify::Tsify),
+    tsify(missing_as_null, rename = "FrameCandidates")
+)]
 pub struct RiecickyCandidates {
-    /// The positions tried (x, z, cm) with their energies (px).
-    pub tried: Vec<(DVec2, f64)>,
-    /// The index of the one chosen.
+    /// The positions tried; the first is the last frame's position.
+    pub tried: Vec<Candidate>,
+    /// The index of the one chosen; `null`: none.
     pub chosen: Option<usize>,
 }
 
@@ -446,9 +474,14 @@ impl TrackingJob {
             .iter()
             .enumerate()
             .map(|(i, f)| {
-                let tried = candidates.get(i).cloned().unwrap_or_default();
+                let tried: Vec<Candidate> = candidates
+                    .get(i)
+                    .map(|c| {
+                        c.iter().map(|&(floor_cm, energy_px)| Candidate { floor_cm, energy_px }).collect()
+                    })
+                    .unwrap_or_default();
                 RiecickyCandidates {
-                    chosen: f.measured_cm.and_then(|m| tried.iter().position(|(p, _)| *p == m)),
+                    chosen: f.measured_cm.and_then(|m| tried.iter().position(|c| c.floor_cm == m)),
                     tried,
                 }
             })
@@ -649,5 +682,20 @@ mod tests {
         assert_eq!(serde_json::from_str::<FrameProgress>(&json).unwrap(), progress);
         let misspelt = json.replace("z_cm", "y_cm");
         assert!(serde_json::from_str::<FrameProgress>(&misspelt).is_err(), "{misspelt}");
+    }
+
+    /// A frame's candidates have the shape the page reads: each tried one's
+    /// floor a `FloorPoint` named `floor` beside its `energy_px`.
+    #[test]
+    fn a_frame_s_candidates_have_the_page_s_shape() {
+        let candidates = RiecickyCandidates {
+            tried: vec![Candidate { floor_cm: DVec2::new(1.5, -2.0), energy_px: 4.0 }],
+            chosen: Some(0),
+        };
+        let json = serde_json::to_string(&candidates).unwrap();
+        assert_eq!(json, r#"{"tried":[{"floor":{"x_cm":1.5,"z_cm":-2.0},"energy_px":4.0}],"chosen":0}"#);
+        assert_eq!(serde_json::from_str::<RiecickyCandidates>(&json).unwrap(), candidates);
+        let misspelt = json.replace("z_cm", "y_cm");
+        assert!(serde_json::from_str::<RiecickyCandidates>(&misspelt).is_err(), "{misspelt}");
     }
 }

@@ -15,10 +15,10 @@ use wasm_bindgen::JsCast;
 
 use super::js_object::{field, read_ts, refuse_unknown_fields, refuse_unknown_fields_of_each};
 use crate::app::frame_layers::Layer;
-use crate::app::tracking::{FinishedView, NamedBytes, RiecickyCandidates, VideoDescription};
-/// The page's floor point and a frame's progress are the app's own
-/// (serialised there, typed for the page when built for it).
-pub use crate::app::tracking::{FloorPoint, FrameProgress};
+/// The page's floor point, a frame's progress and its candidates are the
+/// app's own (serialised there, typed for the page when built for it).
+pub use crate::app::tracking::{Candidate, FloorPoint, FrameProgress, RiecickyCandidates};
+use crate::app::tracking::{FinishedView, NamedBytes, VideoDescription};
 use crate::image::Shrink;
 use crate::track::offset::OffsetEstimate;
 use crate::track::path::PathRequest;
@@ -335,49 +335,20 @@ pub struct TakeFiles {
     pub warnings: Vec<String>,
 }
 
-/// One of the paper's candidates in a frame.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, Tsify)]
-pub struct Candidate {
-    pub floor: FloorPoint,
-    /// Its energy (px; not finite where the body could not be placed).
-    pub energy_px: f64,
-}
-
-/// The paper's search in one video frame (none for `fused`): the page's
-/// view of the app's [`RiecickyCandidates`], whose tried positions are
-/// `DVec2`s with their energies in pairs; one `From` makes it.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Tsify)]
-#[tsify(missing_as_null)]
-pub struct FrameCandidates {
-    /// The positions tried; the first is the last frame's position.
-    pub tried: Vec<Candidate>,
-    /// The index of the one chosen; `null`: none.
-    pub chosen: Option<usize>,
-}
-
-impl FrameCandidates {
-    /// The candidates from the page's object; an unknown field, a
-    /// candidate's or its floor point's too, an error that names it.
-    pub fn from_js(value: &Ts<FrameCandidates>) -> Result<FrameCandidates, String> {
-        let tried = field(&value.js_value(), "tried");
-        refuse_unknown_fields_of_each::<Candidate>(&tried, "the candidates' tried")?;
-        if js_sys::Array::is_array(&tried) {
-            for (i, candidate) in tried.unchecked_ref::<js_sys::Array>().iter().enumerate() {
-                let floor = field(&candidate, "floor");
-                refuse_unknown_fields::<FloorPoint>(&floor, &format!("the candidates' tried[{i}].floor"))?;
-            }
-        }
-        read_ts(value, "the candidates")
-    }
-}
-
-impl From<RiecickyCandidates> for FrameCandidates {
-    fn from(c: RiecickyCandidates) -> FrameCandidates {
-        FrameCandidates {
-            tried: c.tried.into_iter().map(|(p, e)| Candidate { floor: p.into(), energy_px: e }).collect(),
-            chosen: c.chosen,
+/// The paper's candidates in one video frame, read from the page's object
+/// (the app's [`RiecickyCandidates`], a `FrameCandidates` to the page); an
+/// unknown field, a candidate's or its floor point's too, an error that
+/// names it.
+pub fn candidates_from_js(value: &Ts<RiecickyCandidates>) -> Result<RiecickyCandidates, String> {
+    let tried = field(&value.js_value(), "tried");
+    refuse_unknown_fields_of_each::<Candidate>(&tried, "the candidates' tried")?;
+    if js_sys::Array::is_array(&tried) {
+        for (i, candidate) in tried.unchecked_ref::<js_sys::Array>().iter().enumerate() {
+            let floor = field(&candidate, "floor");
+            refuse_unknown_fields::<FloorPoint>(&floor, &format!("the candidates' tried[{i}].floor"))?;
         }
     }
+    read_ts(value, "the candidates")
 }
 
 /// The finished track against the true hips of a CSV.

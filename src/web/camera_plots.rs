@@ -9,9 +9,9 @@ use wasm_bindgen::prelude::*;
 use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement};
 
 use crate::app::plot::Figure;
-use crate::app::plot::camera::{ErrorSeries, PlottedCandidate, candidates_view, frame_series, top_view};
+use crate::app::plot::camera::{ErrorSeries, candidates_view, frame_series, top_view};
 use crate::app::theme;
-use crate::web::camera_api::{FloorPoint, FrameCandidates, TruthErrors};
+use crate::web::camera_api::{FloorPoint, RiecickyCandidates, TruthErrors, candidates_from_js};
 use crate::web::canvas2d;
 use crate::web::js_object::read_ts;
 
@@ -59,18 +59,14 @@ pub fn paint_frame_series(
 #[wasm_bindgen]
 pub fn paint_candidates(
     canvas: &HtmlCanvasElement,
-    frame: Option<Ts<FrameCandidates>>,
+    frame: Option<Ts<RiecickyCandidates>>,
     shown_frame: usize,
 ) -> Result<(), JsError> {
-    let frame = frame.map(|f| FrameCandidates::from_js(&f)).transpose().map_err(|e| JsError::new(&e))?;
-    let tried: Vec<PlottedCandidate> = frame
-        .iter()
-        .flat_map(|f| &f.tried)
-        .map(|c| PlottedCandidate { floor_cm: c.floor.into(), energy_px: c.energy_px })
-        .collect();
-    let chosen = frame.and_then(|f| f.chosen);
+    let frame = frame.map(|f| candidates_from_js(&f)).transpose().map_err(|e| JsError::new(&e))?;
+    let tried = frame.as_ref().map_or(&[][..], |f| &f.tried[..]);
+    let chosen = frame.as_ref().and_then(|f| f.chosen);
     let (w, h) = (canvas.width() as f32, canvas.height() as f32);
-    paint(canvas, &candidates_view(w, h, &tried, chosen, shown_frame))
+    paint(canvas, &candidates_view(w, h, tried, chosen, shown_frame))
 }
 
 /// The colours of what the page draws over the video, as CSS takes them.

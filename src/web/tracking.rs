@@ -12,8 +12,8 @@ use wasm_bindgen::prelude::*;
 use crate::app::finished_take::FinishedTake;
 use crate::app::tracking::TrackingJob;
 use crate::web::camera_api::{
-    FinishedTakeOptions, FinishedViewFrames, FrameCandidates, FrameProgress, NamedFile, OffsetFound,
-    PathWork, TakeFiles, TakeOptions, TruthErrors,
+    FinishedTakeOptions, FinishedViewFrames, FrameProgress, NamedFile, OffsetFound, PathWork,
+    RiecickyCandidates, TakeFiles, TakeOptions, TruthErrors,
 };
 use crate::web::js_object::read_ts;
 use crate::web::take_series::TakeSeries;
@@ -212,8 +212,8 @@ impl CameraJob {
 
     /// Riečický et al.'s candidates of each video frame of the finished track
     /// (none for `fused`).
-    pub fn riecicky_candidates(&self) -> Result<Vec<Ts<FrameCandidates>>, JsError> {
-        let frames = self.job.riecicky_candidates().into_iter().map(|c| FrameCandidates::from(c).into_ts());
+    pub fn riecicky_candidates(&self) -> Result<Vec<Ts<RiecickyCandidates>>, JsError> {
+        let frames = self.job.riecicky_candidates().into_iter().map(|c| c.into_ts());
         Ok(frames.collect::<Result<_, _>>()?)
     }
 }

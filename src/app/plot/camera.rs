@@ -7,6 +7,7 @@
 use crate::app::plot::figure::{Align, Figure, Rect, Shape, TextStyle};
 use crate::app::theme;
 use crate::app::theme::Rgba;
+use crate::app::tracking::Candidate;
 use glam::DVec2;
 
 const TEXT_PX: f32 = 10.0;
@@ -135,13 +136,6 @@ fn format_number(v: f64) -> String {
     if v.fract() == 0.0 && v.abs() < 1e15 { format!("{}", v as i64) } else { format!("{v}") }
 }
 
-/// One of the paper's candidates: where (x, z, cm) and its energy (px).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PlottedCandidate {
-    pub floor_cm: DVec2,
-    pub energy_px: f64,
-}
-
 /// The paper's candidates of frame `shown_frame` where they lie on the
 /// floor around the last position (the first tried), seen from above as
 /// the top view, coloured by energy (low [`theme::CONFIDENCE`], high
@@ -149,7 +143,7 @@ pub struct PlottedCandidate {
 pub fn candidates_view(
     width: f32,
     height: f32,
-    tried: &[PlottedCandidate],
+    tried: &[Candidate],
     chosen: Option<usize>,
     shown_frame: usize,
 ) -> Figure {
@@ -252,7 +246,7 @@ mod tests {
 
     #[test]
     fn candidates_are_coloured_by_energy_and_the_chosen_ringed() {
-        let c = |x: f64, e: f64| PlottedCandidate { floor_cm: DVec2::new(x, 0.0), energy_px: e };
+        let c = |x: f64, e: f64| Candidate { floor_cm: DVec2::new(x, 0.0), energy_px: e };
         let f = candidates_view(240.0, 240.0, &[c(0.0, 2.0), c(10.0, 4.0), c(-10.0, f64::NAN)], Some(1), 7);
         let colours: Vec<Rgba> = f
             .shapes
