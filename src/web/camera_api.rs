@@ -96,7 +96,10 @@ mod track_method_by_name {
 /// The video as the page (or the worker's demuxer) describes it. The
 /// app's [`VideoDescription`] is the same but for the name, which the app
 /// takes apart (`Copy`, and the CLI's and the tests' name their video
-/// from its file); one `From` makes it.
+/// from its file); one `From` makes it. Not the description flattened
+/// beside a name: serde reads a flattened struct as a map, so neither
+/// `deny_unknown_fields` nor `js_object`'s reader sees its fields (an
+/// unknown one would pass serde, and the reader would refuse every one).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, Tsify)]
 #[serde(deny_unknown_fields)]
 pub struct VideoFacts {
