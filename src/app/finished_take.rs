@@ -12,8 +12,9 @@
 
 use glam::DVec2;
 
+use crate::app::frame_report::FrameProgress;
 use crate::app::plot::CameraSeries;
-use crate::app::tracking::{FrameProgress, NamedBytes, VideoDescription, check_video, outlines_px};
+use crate::app::tracking::{NamedBytes, VideoDescription, check_video, outlines_px};
 use crate::camera::Camera;
 use crate::error::Error;
 use crate::io::hips_csv::parse_hips_csv;

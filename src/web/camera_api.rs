@@ -17,7 +17,7 @@ use super::js_object::{field, read_ts, refuse_unknown_fields, refuse_unknown_fie
 use crate::app::frame_layers::Layer;
 /// The page's floor point, a frame's progress and its candidates are the
 /// app's own (serialised there, typed for the page when built for it).
-pub use crate::app::tracking::{Candidate, FloorPoint, FrameProgress, RiecickyCandidates};
+pub use crate::app::frame_report::{Candidate, FloorPoint, FrameProgress, RiecickyCandidates};
 use crate::app::tracking::{FinishedView, NamedBytes, VideoDescription};
 use crate::image::Shrink;
 use crate::track::offset::OffsetEstimate;

@@ -4,10 +4,10 @@
 //! the paper's candidates of the frame shown. Pixels of each plot's own
 //! canvas; the text 10 px, as the panel's small print.
 
+use crate::app::frame_report::Candidate;
 use crate::app::plot::figure::{Align, Figure, Rect, Shape, TextStyle};
 use crate::app::theme;
 use crate::app::theme::Rgba;
-use crate::app::tracking::Candidate;
 use glam::DVec2;
 
 const TEXT_PX: f32 = 10.0;
