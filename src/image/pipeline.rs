@@ -212,15 +212,17 @@ impl Features {
             ));
         };
         let (width_px, height_px) = (u32::from_le_bytes(width), u32::from_le_bytes(height));
-        let count = width_px as usize * height_px as usize;
-        let expected =
-            count.checked_mul(FEATURES_BYTES_PER_PIXEL).and_then(|n| n.checked_add(FEATURES_HEADER_BYTES));
-        if expected != Some(bytes.len()) {
+        // Checked: a header's size need not fit a 32-bit target's memory.
+        let count = (width_px as usize).checked_mul(height_px as usize);
+        let expected = count
+            .and_then(|n| n.checked_mul(FEATURES_BYTES_PER_PIXEL))
+            .and_then(|n| n.checked_add(FEATURES_HEADER_BYTES));
+        let (Some(count), true) = (count, expected == Some(bytes.len())) else {
             return Err(Error::whole(
                 label,
                 format!("{} bytes of features for a {width_px}×{height_px} frame", bytes.len()),
             ));
-        }
+        };
         let planes = &bytes[FEATURES_HEADER_BYTES..];
         let (difference, rest) = planes.split_at(count);
         let (foreground, rest) = rest.split_at(count);
@@ -287,7 +289,9 @@ mod tests {
     fn bytes_that_are_not_features_are_refused_naming_the_frame() {
         let bytes = some_features().to_bytes();
         let refused = |bytes: &[u8]| Features::from_bytes(bytes, "frame 3").unwrap_err().to_string();
-        for said in [refused(&bytes[..10]), refused(&bytes[..bytes.len() - 1])] {
+        let mut too_large = bytes.clone();
+        too_large[..8].copy_from_slice(&[255; 8]); // 4294967295 × 4294967295 pixels
+        for said in [refused(&bytes[..10]), refused(&bytes[..bytes.len() - 1]), refused(&too_large)] {
             assert!(said.contains("frame 3") && said.contains("bytes of features"), "{said}");
         }
         let mut wrong_mask = bytes.clone();
